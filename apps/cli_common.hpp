@@ -1,0 +1,17 @@
+#pragma once
+// Shared by the subcommands: reading a scene file and mapping failures to exit codes.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace mrjam::cli {
+
+// Exit codes: 0 done, 1 internal or I/O error, 2 bad input (scene or command line),
+// 3 the run blew up, 130 interrupted (checkpoint written).
+inline constexpr int kExitError = 1;
+inline constexpr int kExitBadInput = 2;
+
+// Parses a JSON file; throws SceneError with the file name and the parser's position.
+nlohmann::json read_json_file(const std::string& path);
+
+}  // namespace mrjam::cli

@@ -1,0 +1,10 @@
+#pragma once
+// Each subcommand registers itself on the application; its callback sets the exit status.
+#include <CLI/CLI.hpp>
+
+namespace mrjam::cli {
+
+void add_run_command(CLI::App& app, int& exit_status);
+void add_bench_command(CLI::App& app, int& exit_status);
+
+}  // namespace mrjam::cli

@@ -1,0 +1,34 @@
+#pragma once
+// Small fixed 3-vector used in every hot loop. A plain aggregate of three doubles keeps the
+// particle arrays contiguous (x0 y0 z0 x1 ...) and lets the compiler vectorise the pair loops
+// without Eigen's alignment rules getting in the way.
+#include <cmath>
+
+namespace mrjam {
+
+struct Vec3 {
+    double x = 0, y = 0, z = 0;
+
+    constexpr double& operator[](int k) { return k == 0 ? x : (k == 1 ? y : z); }
+    constexpr double operator[](int k) const { return k == 0 ? x : (k == 1 ? y : z); }
+
+    constexpr Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    constexpr Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
+    constexpr Vec3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+};
+
+constexpr Vec3 operator+(Vec3 a, const Vec3& b) { return a += b; }
+constexpr Vec3 operator-(Vec3 a, const Vec3& b) { return a -= b; }
+constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+constexpr Vec3 operator*(Vec3 a, double s) { return a *= s; }
+constexpr Vec3 operator*(double s, Vec3 a) { return a *= s; }
+constexpr Vec3 operator/(const Vec3& a, double s) { return {a.x / s, a.y / s, a.z / s}; }
+constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+constexpr double norm2(const Vec3& a) { return dot(a, a); }
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline bool finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+
+}  // namespace mrjam

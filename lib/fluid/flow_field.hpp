@@ -1,0 +1,76 @@
+#pragma once
+// Background carrier-fluid velocity for Stokes drag (one-way coupled: the grains feel the fluid,
+// the fluid does not feel the grains). Called once per grain per step, so a virtual call is fine.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace mrjam {
+
+class FlowField {
+public:
+    virtual ~FlowField() = default;
+    virtual Vec3 velocity(const Vec3& x, double time) const = 0;
+    virtual std::string name() const = 0;
+};
+
+class StillFlow final : public FlowField {
+public:
+    Vec3 velocity(const Vec3&, double) const override { return {}; }
+    std::string name() const override { return "still"; }
+};
+
+class UniformFlow final : public FlowField {
+public:
+    explicit UniformFlow(Vec3 u) : u_(u) {}
+    Vec3 velocity(const Vec3&, double) const override { return u_; }
+    std::string name() const override { return "uniform"; }
+
+private:
+    Vec3 u_;
+};
+
+// Linear profile between two walls normal to `gradient_axis`: velocity `lower_velocity` at
+// coordinate `lower`, `upper_velocity` at `upper`, constant beyond them (fig. 2.4).
+class CouetteFlow final : public FlowField {
+public:
+    CouetteFlow(int gradient_axis, double lower, double upper, Vec3 lower_velocity, Vec3 upper_velocity)
+        : axis_(gradient_axis), lower_(lower), upper_(upper), v_lower_(lower_velocity), v_upper_(upper_velocity) {}
+    Vec3 velocity(const Vec3& x, double) const override {
+        double s = (x[axis_] - lower_) / (upper_ - lower_);
+        s = s < 0 ? 0 : (s > 1 ? 1 : s);
+        return v_lower_ + (v_upper_ - v_lower_) * s;
+    }
+    std::string name() const override { return "couette"; }
+    double shear_rate() const { return norm(v_upper_ - v_lower_) / (upper_ - lower_); }
+
+private:
+    int axis_;
+    double lower_, upper_;
+    Vec3 v_lower_, v_upper_;
+};
+
+// Flow along a tube axis: centreline speed u(s) tabulated along the axis coordinate s (linear
+// interpolation, constant beyond the ends; one point gives a constant), with a parabolic
+// (Poiseuille) or plug shape across a radius that may also vary with s. Zero outside the tube.
+class AxialFlow final : public FlowField {
+public:
+    struct Station {
+        double position;          // along the axis, m
+        double centreline_speed;  // m/s
+        double radius;            // tube radius at this station, m
+    };
+    AxialFlow(int axis, Vec3 centre, std::vector<Station> stations, bool parabolic);
+    Vec3 velocity(const Vec3& x, double) const override;
+    std::string name() const override { return "axial"; }
+
+private:
+    int axis_;
+    Vec3 centre_;
+    std::vector<Station> stations_;
+    bool parabolic_;
+};
+
+}  // namespace mrjam

@@ -1,0 +1,258 @@
+#include "forces.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+
+namespace mrjam {
+namespace {
+
+struct ThreadBuffers {
+    std::vector<std::vector<Vec3>> force, torque;
+    std::vector<ContactStats> stats;
+    std::vector<std::vector<Vec3>> raft_force;
+};
+
+ThreadBuffers& buffers() {
+    static thread_local ThreadBuffers b;  // reused between steps; one set per calling thread
+    return b;
+}
+
+void merge_stats(ContactStats& into, const ContactStats& s) {
+    into.contacts += s.contacts;
+    if (s.max_overlap_ratio > into.max_overlap_ratio) {
+        into.max_overlap_ratio = s.max_overlap_ratio;
+        into.worst_i = s.worst_i;
+        into.worst_j = s.worst_j;
+        into.worst_is_wall = s.worst_is_wall;
+    }
+}
+
+double rolling_inertia_of(const Particles& p, std::size_t i) {
+    return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
+}
+
+template <RollingModel Rolling, CohesionModel Cohesion>
+void grain_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& raft_force,
+                    std::size_t begin, std::size_t end) {
+    const Particles& p = s.particles;
+    NeighborList& list = s.contacts;
+    const double dt = s.dt;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 xi = p.position[i];
+        const double ri = p.radius[i];
+        const bool frozen_i = p.raft[i] >= 0;
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            const Vec3 d = xi - p.position[j] + list.image_shift(list.image[k]);
+            const double rsum = ri + p.radius[j];
+            const double r2 = norm2(d);
+            if (r2 >= rsum * rsum) {
+                list.history[k] = ContactHistory{};
+                continue;
+            }
+            const bool frozen_j = p.raft[j] >= 0;
+            if (frozen_i && frozen_j) continue;  // both move rigidly: their force does no work
+            const double dist = std::sqrt(r2);
+            const double rj = p.radius[j];
+            ContactInput in;
+            in.normal = d * (1.0 / dist);
+            in.overlap = rsum - dist;
+            in.distance = dist;
+            in.radius_i = ri;
+            in.radius_j = rj;
+            in.reduced_radius = ri * rj / rsum;
+            in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+            if constexpr (Rolling == RollingModel::epsd) {
+                in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
+            }
+            in.contact_velocity = p.velocity[i] - p.velocity[j] -
+                                  cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
+            in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
+            in.wall = false;
+            ContactOutput out;
+            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, list.history[k], dt, out);
+            f[i] += out.force_on_i;
+            f[j] -= out.force_on_i;
+            t[i] += out.torque_on_i;
+            t[j] += out.torque_on_j;
+            if (frozen_i) raft_force[p.raft[i]] += out.force_on_i;
+            if (frozen_j) raft_force[p.raft[j]] -= out.force_on_i;
+            ++stats.contacts;
+            const double ratio = in.overlap / std::min(ri, rj);
+            if (ratio > stats.max_overlap_ratio) {
+                stats.max_overlap_ratio = ratio;
+                stats.worst_i = i;
+                stats.worst_j = j;
+                stats.worst_is_wall = false;
+            }
+        }
+    }
+}
+
+template <RollingModel Rolling, CohesionModel Cohesion>
+void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& wall_force,
+                   std::vector<Vec3>& raft_force, std::size_t begin, std::size_t end) {
+    const Particles& p = s.particles;
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+        Wall& wall = s.walls[w];
+        for (std::size_t i = begin; i < end; ++i) {
+            double overlap;
+            ContactInput in;
+            if (!wall.touch(p.position[i], p.radius[i], overlap, in.normal)) {
+                wall.history[i] = ContactHistory{};
+                continue;
+            }
+            const double ri = p.radius[i];
+            in.overlap = overlap;
+            in.distance = ri - overlap;
+            in.radius_i = ri;
+            in.radius_j = 0;
+            in.reduced_radius = ri;
+            in.reduced_mass = p.mass[i];
+            in.rolling_inertia = rolling_inertia_of(p, i);
+            in.contact_velocity = p.velocity[i] - wall.velocity - cross(p.angular_velocity[i] * ri, in.normal);
+            in.relative_spin = p.angular_velocity[i];
+            in.wall = true;
+            ContactOutput out;
+            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], wall.material), in, wall.history[i], s.dt, out);
+            f[i] += out.force_on_i;
+            t[i] += out.torque_on_i;
+            wall_force[w] -= out.force_on_i;
+            if (p.raft[i] >= 0) raft_force[p.raft[i]] += out.force_on_i;
+            ++stats.contacts;
+            const double ratio = overlap / ri;
+            if (ratio > stats.max_overlap_ratio) {
+                stats.max_overlap_ratio = ratio;
+                stats.worst_i = i;
+                stats.worst_j = w;
+                stats.worst_is_wall = true;
+            }
+        }
+    }
+}
+
+// Single-grain terms: drag against the carrier flow, gravity with buoyancy.
+void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
+    const Particles& p = s.particles;
+    const PhysicsSettings& ph = s.physics;
+    for (std::size_t i = begin; i < end; ++i) {
+        if (ph.drag) {
+            // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f).
+            const Vec3 vf = s.flow->velocity(p.position[i], s.time);
+            f[i] -= (p.velocity[i] - vf) * (6.0 * M_PI * ph.viscosity * p.radius[i]);
+        }
+        if (ph.gravity) {
+            const double volume = 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];
+            f[i] += ph.gravity_acceleration * (p.mass[i] - ph.fluid_density * volume);
+        }
+    }
+}
+
+template <RollingModel Rolling, CohesionModel Cohesion>
+void compute_all(System& s) {
+    Particles& p = s.particles;
+    const std::size_t n = p.size();
+    const int nthreads = std::max(1, s.threads);
+    ThreadBuffers& b = buffers();
+    b.force.resize(nthreads);
+    b.torque.resize(nthreads);
+    b.stats.assign(nthreads, ContactStats{});
+    b.raft_force.assign(nthreads, std::vector<Vec3>(s.rafts.size()));
+    std::vector<std::vector<Vec3>> wall_force(nthreads, std::vector<Vec3>(s.walls.size()));
+    for (auto& w : s.walls) w.history.resize(n);
+
+#pragma omp parallel num_threads(nthreads)
+    {
+        const int tid = omp_get_thread_num();
+        // Thread 0 writes straight into the grains' arrays; the others into private buffers.
+        Vec3* f = p.force.data();
+        Vec3* t = p.torque.data();
+        if (tid > 0) {
+            b.force[tid].assign(n, Vec3{});
+            b.torque[tid].assign(n, Vec3{});
+            f = b.force[tid].data();
+            t = b.torque[tid].data();
+        } else {
+            std::fill(p.force.begin(), p.force.end(), Vec3{});
+            std::fill(p.torque.begin(), p.torque.end(), Vec3{});
+        }
+        // Static contiguous split by owner: deterministic for a given thread count. The pair work
+        // per owner is roughly uniform for dense packings.
+        const std::size_t begin = n * tid / nthreads, end = n * (tid + 1) / nthreads;
+        if (s.physics.contact) {
+            grain_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
+            wall_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], wall_force[tid], b.raft_force[tid], begin, end);
+        }
+        body_forces(s, f, begin, end);
+#pragma omp barrier
+        // Reduce the private buffers, each thread summing its own slice of grains in thread order.
+        for (int other = 1; other < nthreads; ++other) {
+            const Vec3* of = b.force[other].data();
+            const Vec3* ot = b.torque[other].data();
+            for (std::size_t i = begin; i < end; ++i) {
+                p.force[i] += of[i];
+                p.torque[i] += ot[i];
+            }
+        }
+    }
+
+    s.contact_stats = ContactStats{};
+    for (const auto& st : b.stats) merge_stats(s.contact_stats, st);
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+        s.walls[w].force = Vec3{};
+        for (int tid = 0; tid < nthreads; ++tid) s.walls[w].force += wall_force[tid][w];
+    }
+    for (std::size_t r = 0; r < s.rafts.size(); ++r) {
+        s.rafts[r].force = Vec3{};
+        for (int tid = 0; tid < nthreads; ++tid) s.rafts[r].force += b.raft_force[tid][r];
+    }
+}
+
+template <RollingModel Rolling>
+void dispatch_cohesion(System& s) {
+    switch (s.physics.cohesion) {
+        case CohesionModel::none: return compute_all<Rolling, CohesionModel::none>(s);
+        case CohesionModel::sjkr: return compute_all<Rolling, CohesionModel::sjkr>(s);
+        case CohesionModel::dmt: return compute_all<Rolling, CohesionModel::dmt>(s);
+    }
+}
+
+}  // namespace
+
+void compute_forces(System& s) {
+    switch (s.physics.rolling) {
+        case RollingModel::none: return dispatch_cohesion<RollingModel::none>(s);
+        case RollingModel::epsd: return dispatch_cohesion<RollingModel::epsd>(s);
+        case RollingModel::sds: return dispatch_cohesion<RollingModel::sds>(s);
+    }
+}
+
+double contact_elastic_energy(const System& s) {
+    const Particles& p = s.particles;
+    const NeighborList& list = s.contacts;
+    double energy = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double overlap = p.radius[i] + p.radius[j] - norm(d);
+            if (overlap <= 0) continue;
+            const double rstar = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+            const double ystar = s.pairs(p.material[i], p.material[j]).effective_youngs;
+            energy += 8.0 / 15.0 * ystar * std::sqrt(rstar) * std::pow(overlap, 2.5);
+        }
+    }
+    for (const Wall& w : s.walls) {
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            double overlap;
+            Vec3 n;
+            if (!w.touch(p.position[i], p.radius[i], overlap, n)) continue;
+            const double ystar = s.pairs(p.material[i], w.material).effective_youngs;
+            energy += 8.0 / 15.0 * ystar * std::sqrt(p.radius[i]) * std::pow(overlap, 2.5);
+        }
+    }
+    return energy;
+}
+
+}  // namespace mrjam

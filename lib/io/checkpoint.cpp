@@ -1,0 +1,129 @@
+#include "io/checkpoint.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "io/binary_io.hpp"
+
+namespace mrjam {
+namespace {
+
+constexpr std::uint64_t kMagic = 0x314b434d414a524dull;  // "MRJAMCK1"
+
+void put_particles(std::ostream& out, const Particles& p) {
+    binary::put_vector(out, p.position);
+    binary::put_vector(out, p.velocity);
+    binary::put_vector(out, p.angular_velocity);
+    binary::put_vector(out, p.force);
+    binary::put_vector(out, p.torque);
+    binary::put_vector(out, p.radius);
+    binary::put_vector(out, p.mass);
+    binary::put_vector(out, p.inertia);
+    binary::put_vector(out, p.dipole_moment);
+    binary::put_vector(out, p.material);
+    binary::put_vector(out, p.groups);
+    binary::put_vector(out, p.id);
+    binary::put_vector(out, p.raft);
+}
+
+void get_particles(std::istream& in, Particles& p) {
+    binary::get_vector(in, p.position);
+    binary::get_vector(in, p.velocity);
+    binary::get_vector(in, p.angular_velocity);
+    binary::get_vector(in, p.force);
+    binary::get_vector(in, p.torque);
+    binary::get_vector(in, p.radius);
+    binary::get_vector(in, p.mass);
+    binary::get_vector(in, p.inertia);
+    binary::get_vector(in, p.dipole_moment);
+    binary::get_vector(in, p.material);
+    binary::get_vector(in, p.groups);
+    binary::get_vector(in, p.id);
+    binary::get_vector(in, p.raft);
+}
+
+std::ifstream open_and_check(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open checkpoint " + path);
+    if (binary::get<std::uint64_t>(in) != kMagic)
+        throw std::runtime_error(path + " is not an mrjam checkpoint (or was written by an incompatible version)");
+    return in;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const nlohmann::json& resolved_scene, const System& s,
+                      const ProtocolPosition& position, const nlohmann::json& history) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw std::runtime_error("cannot write checkpoint " + tmp);
+        binary::put(out, kMagic);
+        binary::put_string(out, resolved_scene.dump());
+        binary::put_string(out, history.dump());
+        binary::put(out, position);
+        binary::put(out, s.time);
+        binary::put(out, s.step);
+        binary::put(out, s.dt);
+        put_particles(out, s.particles);
+        s.contacts.save(out);
+        binary::put<std::uint64_t>(out, s.walls.size());
+        for (const Wall& w : s.walls) {
+            binary::put(out, w.point);
+            binary::put(out, w.velocity);
+            binary::put_vector(out, w.history);
+        }
+        binary::put<std::uint64_t>(out, s.rafts.size());
+        for (const Raft& r : s.rafts) {
+            binary::put_string(out, r.name);
+            binary::put(out, r.velocity);
+            binary::put(out, r.members);
+        }
+        if (!out) throw std::runtime_error("failed writing checkpoint " + tmp);
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot move checkpoint into place at " + path);
+}
+
+CheckpointHeader read_checkpoint_header(const std::string& path) {
+    std::ifstream in = open_and_check(path);
+    CheckpointHeader h;
+    try {
+        h.resolved_scene = nlohmann::json::parse(binary::get_string(in));
+        h.history = nlohmann::json::parse(binary::get_string(in));
+    } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error("checkpoint " + path + " is corrupt: " + e.what());
+    }
+    h.position = binary::get<ProtocolPosition>(in);
+    return h;
+}
+
+void restore_state(const std::string& path, System& s) {
+    std::ifstream in = open_and_check(path);
+    binary::get_string(in);
+    binary::get_string(in);
+    binary::get<ProtocolPosition>(in);
+    s.time = binary::get<double>(in);
+    s.step = binary::get<long>(in);
+    s.dt = binary::get<double>(in);
+    get_particles(in, s.particles);
+    s.contacts.load(in);
+    const auto nwalls = binary::get<std::uint64_t>(in);
+    if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
+    for (Wall& w : s.walls) {
+        w.point = binary::get<Vec3>(in);
+        w.velocity = binary::get<Vec3>(in);
+        binary::get_vector(in, w.history);
+    }
+    const auto nrafts = binary::get<std::uint64_t>(in);
+    s.rafts.clear();
+    for (std::uint64_t r = 0; r < nrafts; ++r) {
+        Raft raft;
+        raft.name = binary::get_string(in);
+        raft.velocity = binary::get<Vec3>(in);
+        raft.members = binary::get<std::size_t>(in);
+        s.rafts.push_back(raft);
+    }
+}
+
+}  // namespace mrjam

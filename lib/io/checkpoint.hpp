@@ -1,0 +1,33 @@
+#pragma once
+// Checkpoints: the resolved scene plus the full dynamic state (grains, contact history, walls,
+// rafts, protocol position), enough to continue a run bit for bit.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "system.hpp"
+
+namespace mrjam {
+
+struct ProtocolPosition {
+    std::size_t stage = 0;       // index of the stage in progress
+    long step_in_stage = 0;      // steps of it already done
+    bool stage_started = false;  // its start actions were applied
+};
+
+// Writes atomically (temporary file, then rename), so an interrupted write never leaves a
+// corrupt checkpoint behind.
+void write_checkpoint(const std::string& path, const nlohmann::json& resolved_scene, const System& system,
+                      const ProtocolPosition& position, const nlohmann::json& history);
+
+struct CheckpointHeader {
+    nlohmann::json resolved_scene;
+    nlohmann::json history;  // observations recorded so far (e.g. a flux history)
+    ProtocolPosition position;
+};
+
+// Reads the scene part; restore_state then fills a system built from that scene.
+CheckpointHeader read_checkpoint_header(const std::string& path);
+void restore_state(const std::string& path, System& system);
+
+}  // namespace mrjam

@@ -1,0 +1,238 @@
+#include "neighbor/neighbor_list.hpp"
+
+#include "io/binary_io.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace mrjam {
+namespace {
+
+// Uniform grid over the box. Grains outside the box on a closed axis are clamped into the edge
+// cells: merging cells never separates neighbours, so no pair is lost.
+struct CellGrid {
+    Vec3 lo;
+    double size[3];
+    int count[3];
+    std::vector<std::uint32_t> start;  // first slot of each cell in `order`
+    std::vector<std::uint32_t> order;  // grains sorted by cell
+    std::vector<std::uint32_t> cell_of;
+
+    int axis_cell(double x, int k) const {
+        const int c = static_cast<int>(std::floor((x - lo[k]) / size[k]));
+        return std::clamp(c, 0, count[k] - 1);
+    }
+    std::uint32_t cell_index(int cx, int cy, int cz) const {
+        return static_cast<std::uint32_t>((cz * count[1] + cy) * count[0] + cx);
+    }
+};
+
+CellGrid bin(const Particles& p, const Domain& domain, double target_size) {
+    CellGrid g;
+    g.lo = domain.lo;
+    const Vec3 len = domain.length();
+    // Cap the grid at ~4 cells per grain so a tiny cutoff in a big box cannot exhaust memory.
+    const double max_cells = std::max<double>(64.0, 4.0 * static_cast<double>(p.size()));
+    double h = target_size;
+    while ((len.x / h) * (len.y / h) * (len.z / h) > max_cells) h *= 1.25;
+    for (int k = 0; k < 3; ++k) {
+        g.count[k] = std::max(1, static_cast<int>(std::floor(len[k] / h)));
+        g.size[k] = len[k] / g.count[k];
+    }
+    const std::size_t ncell = static_cast<std::size_t>(g.count[0]) * g.count[1] * g.count[2];
+    g.start.assign(ncell + 1, 0);
+    g.cell_of.resize(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3& x = p.position[i];
+        const std::uint32_t c = g.cell_index(g.axis_cell(x.x, 0), g.axis_cell(x.y, 1), g.axis_cell(x.z, 2));
+        g.cell_of[i] = c;
+        ++g.start[c + 1];
+    }
+    for (std::size_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
+    g.order.resize(p.size());
+    std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
+    for (std::size_t i = 0; i < p.size(); ++i) g.order[fill[g.cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    return g;
+}
+
+// Cells along one axis within `reach` cells of c, each once, with the periodic wrap recorded.
+struct AxisRange {
+    int cell[64];
+    int wrap[64];  // -1, 0, +1 periods added to the partner's coordinate
+    int n = 0;
+};
+
+void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
+    r.n = 0;
+    if (periodic && 2 * reach + 1 >= count) {
+        // The stencil covers the whole period: visit every cell once; the image is chosen per
+        // pair by minimum image below.
+        for (int k = 0; k < count && r.n < 64; ++k) { r.cell[r.n] = k; r.wrap[r.n] = 2; ++r.n; }
+        return;
+    }
+    for (int d = -reach; d <= reach && r.n < 64; ++d) {
+        int k = c + d, w = 0;
+        if (periodic) {
+            if (k < 0) { k += count; w = -1; }
+            else if (k >= count) { k -= count; w = +1; }
+        } else if (k < 0 || k >= count) {
+            continue;
+        }
+        r.cell[r.n] = k;
+        r.wrap[r.n] = w;
+        ++r.n;
+    }
+}
+
+bool owns(const Particles& p, std::uint32_t i, std::uint32_t j) {
+    return p.radius[j] < p.radius[i] || (p.radius[j] == p.radius[i] && j > i);
+}
+
+}  // namespace
+
+void NeighborList::build(Particles& p, const Domain& domain, int threads) {
+    const std::size_t n = p.size();
+    const Vec3 len = domain.length();
+    for (std::size_t i = 0; i < n; ++i) domain.wrap(p.position[i]);
+
+    double r_max = 0, r_sum = 0;
+    for (std::size_t i = 0; i < n; ++i) { r_max = std::max(r_max, p.radius[i]); r_sum += p.radius[i]; }
+    const double r_mean = n ? r_sum / n : 0;
+    for (int k = 0; k < 3; ++k) {
+        if (domain.periodic[k] && pair_cutoff(r_max, r_max) > 0.5 * len[k]) {
+            std::ostringstream s;
+            s << "the periodic box is " << len[k] << " m long on axis " << char('x' + k)
+              << " but the neighbour cutoff of the largest grains is " << pair_cutoff(r_max, r_max)
+              << " m; the box must be at least twice the cutoff (make the box larger or the cutoff shorter)";
+            throw std::runtime_error(s.str());
+        }
+    }
+    for (int a = 0; a < 27; ++a) {
+        const int w[3] = {a % 3 - 1, (a / 3) % 3 - 1, a / 9 - 1};
+        shifts_[a] = {w[0] * len.x, w[1] * len.y, w[2] * len.z};
+    }
+
+    const CellGrid grid = bin(p, domain, std::max(pair_cutoff(r_mean, r_mean), 1e-300));
+
+    // Old list, kept to carry contact history over.
+    const std::vector<std::uint32_t> old_offsets = std::move(offsets);
+    const std::vector<std::uint32_t> old_partners = std::move(partners);
+    const std::vector<ContactHistory> old_history = std::move(history);
+    const bool carry = settings_.keep_history && old_offsets.size() == n + 1;
+
+    struct Chunk {
+        std::vector<std::uint32_t> count;  // per owner in this chunk
+        std::vector<std::uint32_t> partner;
+        std::vector<std::uint8_t> image;
+        std::vector<ContactHistory> history;
+    };
+    const int nthreads = std::max(1, threads);
+    std::vector<Chunk> chunks(nthreads);
+
+#pragma omp parallel num_threads(nthreads)
+    {
+        const int t = omp_get_thread_num();
+        const std::size_t begin = n * t / nthreads, end = n * (t + 1) / nthreads;
+        Chunk& ch = chunks[t];
+        ch.count.assign(end - begin, 0);
+        AxisRange rx, ry, rz;
+        for (std::size_t ii = begin; ii < end; ++ii) {
+            const auto i = static_cast<std::uint32_t>(ii);
+            const Vec3 xi = p.position[i];
+            const double ri = p.radius[i];
+            const double reach_len = pair_cutoff(ri, ri);
+            int c[3];
+            for (int k = 0; k < 3; ++k) c[k] = grid.axis_cell(xi[k], k);
+            axis_range(c[0], static_cast<int>(std::ceil(reach_len / grid.size[0])), grid.count[0], domain.periodic[0], rx);
+            axis_range(c[1], static_cast<int>(std::ceil(reach_len / grid.size[1])), grid.count[1], domain.periodic[1], ry);
+            axis_range(c[2], static_cast<int>(std::ceil(reach_len / grid.size[2])), grid.count[2], domain.periodic[2], rz);
+            for (int az = 0; az < rz.n; ++az)
+                for (int ay = 0; ay < ry.n; ++ay)
+                    for (int ax = 0; ax < rx.n; ++ax) {
+                        const std::uint32_t cell = grid.cell_index(rx.cell[ax], ry.cell[ay], rz.cell[az]);
+                        for (std::uint32_t s = grid.start[cell]; s < grid.start[cell + 1]; ++s) {
+                            const std::uint32_t j = grid.order[s];
+                            if (!owns(p, i, j)) continue;
+                            // Separation x_i - x_j with the image the stencil implies.
+                            Vec3 d = xi - p.position[j];
+                            int w[3] = {rx.wrap[ax], ry.wrap[ay], rz.wrap[az]};
+                            for (int k = 0; k < 3; ++k) {
+                                if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
+                                // x_i - (x_j + w L): the partner image sits w periods away.
+                                d[k] -= w[k] * len[k];
+                            }
+                            const double cut = pair_cutoff(ri, p.radius[j]);
+                            if (norm2(d) >= cut * cut) continue;
+                            // image code: shift = -w L added to x_i - x_j.
+                            const auto code = static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
+                            ContactHistory h{};
+                            if (carry) {
+                                for (std::uint32_t k = old_offsets[i]; k < old_offsets[i + 1]; ++k)
+                                    if (old_partners[k] == j) { h = old_history[k]; break; }
+                            }
+                            ch.partner.push_back(j);
+                            ch.image.push_back(code);
+                            ch.history.push_back(h);
+                            ++ch.count[ii - begin];
+                        }
+                    }
+        }
+    }
+
+    offsets.assign(n + 1, 0);
+    std::size_t total = 0;
+    for (const auto& ch : chunks) total += ch.partner.size();
+    partners.reserve(total); image.clear(); image.reserve(total); history.reserve(total);
+    std::size_t i = 0;
+    for (const auto& ch : chunks) {
+        for (auto c : ch.count) { offsets[i + 1] = offsets[i] + c; ++i; }
+        partners.insert(partners.end(), ch.partner.begin(), ch.partner.end());
+        image.insert(image.end(), ch.image.begin(), ch.image.end());
+        history.insert(history.end(), ch.history.begin(), ch.history.end());
+    }
+    position_at_build_ = p.position;
+    ++builds_;
+}
+
+bool NeighborList::needs_rebuild(const Particles& p) const {
+    if (position_at_build_.size() != p.size()) return true;
+    const double limit2 = 0.25 * settings_.skin * settings_.skin;
+    const std::size_t n = p.size();
+    int moved = 0;
+#pragma omp parallel for reduction(| : moved) schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+        if (norm2(p.position[i] - position_at_build_[i]) > limit2) moved = 1;
+    return moved != 0;
+}
+
+}  // namespace mrjam
+
+namespace mrjam {
+
+void NeighborList::save(std::ostream& out) const {
+    binary::put(out, settings_);
+    binary::put_vector(out, offsets);
+    binary::put_vector(out, partners);
+    binary::put_vector(out, image);
+    binary::put_vector(out, history);
+    binary::put_vector(out, position_at_build_);
+    for (const Vec3& s : shifts_) binary::put(out, s);
+    binary::put(out, builds_);
+}
+
+void NeighborList::load(std::istream& in) {
+    settings_ = binary::get<Settings>(in);
+    binary::get_vector(in, offsets);
+    binary::get_vector(in, partners);
+    binary::get_vector(in, image);
+    binary::get_vector(in, history);
+    binary::get_vector(in, position_at_build_);
+    for (Vec3& s : shifts_) s = binary::get<Vec3>(in);
+    builds_ = binary::get<long>(in);
+}
+
+}  // namespace mrjam

@@ -1,0 +1,53 @@
+#include "observers.hpp"
+
+#include <cmath>
+
+#include "forces.hpp"
+
+namespace mrjam {
+
+EnergyBreakdown energy(const System& s) {
+    EnergyBreakdown e;
+    const Particles& p = s.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        e.translational += 0.5 * p.mass[i] * norm2(p.velocity[i]);
+        e.rotational += 0.5 * p.inertia[i] * norm2(p.angular_velocity[i]);
+        if (s.physics.gravity) {
+            const double volume = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
+            e.gravitational -= (p.mass[i] - s.physics.fluid_density * volume) * dot(s.physics.gravity_acceleration, p.position[i]);
+        }
+    }
+    if (s.physics.contact) e.elastic = contact_elastic_energy(s);
+    return e;
+}
+
+double mean_coordination(const System& s) {
+    const std::size_t n = s.particles.size();
+    return n ? 2.0 * static_cast<double>(s.contact_stats.contacts) / static_cast<double>(n) : 0.0;
+}
+
+nlohmann::json state_summary(const System& s) {
+    const EnergyBreakdown e = energy(s);
+    nlohmann::json j;
+    j["grains"] = s.particles.size();
+    j["steps"] = s.step;
+    j["simulated_time_s"] = s.time;
+    j["timestep_s"] = s.dt;
+    j["kinetic_energy_J"] = e.translational;
+    j["rotational_energy_J"] = e.rotational;
+    j["elastic_energy_J"] = e.elastic;
+    j["contacts"] = s.contact_stats.contacts;
+    j["mean_coordination"] = mean_coordination(s);
+    j["max_overlap_ratio"] = s.contact_stats.max_overlap_ratio;
+    j["neighbour_builds"] = s.contacts.builds();
+    j["neighbour_pairs"] = s.contacts.pair_count();
+    for (const Raft& r : s.rafts)
+        j["rafts"].push_back({{"name", r.name}, {"grains", r.members}, {"force_N", {r.force.x, r.force.y, r.force.z}},
+                              {"velocity_m_s", {r.velocity.x, r.velocity.y, r.velocity.z}}});
+    for (const Wall& w : s.walls)
+        j["walls"].push_back({{"name", w.name}, {"force_N", {w.force.x, w.force.y, w.force.z}},
+                              {"point_m", {w.point.x, w.point.y, w.point.z}}});
+    return j;
+}
+
+}  // namespace mrjam

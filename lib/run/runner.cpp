@@ -1,0 +1,206 @@
+#include "run/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "integrator.hpp"
+#include "observers.hpp"
+#include "run/interrupt.hpp"
+
+namespace mrjam {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+int raft_index(const System& s, const std::string& name) {
+    for (std::size_t r = 0; r < s.rafts.size(); ++r)
+        if (s.rafts[r].name == name) return static_cast<int>(r);
+    return -1;
+}
+
+// Start-of-stage actions. Forming and releasing rafts changes membership, so it happens once;
+// velocities and flows are settings and are re-applied when a run resumes mid-stage.
+void start_stage(System& s, const Stage& st, bool membership_changes) {
+    if (membership_changes) {
+        for (const auto& name : st.release) {
+            const int r = raft_index(s, name);
+            if (r < 0) throw std::runtime_error("stage '" + st.name + "' releases raft '" + name + "', which was never formed");
+            for (auto& m : s.particles.raft)
+                if (m == r) m = -1;
+            s.rafts[r].members = 0;
+        }
+        for (const auto& f : st.form_rafts) {
+            int r = raft_index(s, f.name);
+            if (r < 0) {
+                s.rafts.push_back(Raft{f.name, f.velocity, {}, 0});
+                r = static_cast<int>(s.rafts.size() - 1);
+            }
+            for (std::size_t i = 0; i < s.particles.size(); ++i) {
+                const Vec3& x = s.particles.position[i];
+                bool inside = true;
+                const Region& g = f.region;
+                if (g.kind == Region::Kind::box) {
+                    for (int k = 0; k < 3; ++k) inside = inside && x[k] >= g.lo[k] && x[k] <= g.hi[k];
+                } else {
+                    inside = g.contains_sphere(x, 0.0, s.domain);
+                }
+                if (inside && s.particles.raft[i] < 0) {
+                    s.particles.raft[i] = static_cast<std::int16_t>(r);
+                    ++s.rafts[r].members;
+                }
+            }
+        }
+    }
+    for (const auto& f : st.form_rafts) s.rafts[raft_index(s, f.name)].velocity = f.velocity;
+    for (const auto& [name, v] : st.raft_velocities) {
+        const int r = raft_index(s, name);
+        if (r < 0) throw std::runtime_error("stage '" + st.name + "' sets the velocity of raft '" + name + "', which was never formed");
+        s.rafts[r].velocity = v;
+    }
+    for (const auto& [name, v] : st.wall_velocities)
+        for (auto& w : s.walls)
+            if (w.name == name) w.velocity = v;
+    if (st.flow) s.flow = st.flow;
+}
+
+std::string checkpoint_path_of(const Scene& scene) {
+    if (!scene.output.checkpoint_path.empty()) return scene.output.checkpoint_path;
+    return (std::filesystem::path(scene.output.directory) / "checkpoint.mrjam").string();
+}
+
+nlohmann::json timestep_json(const Scene& scene) {
+    const TimestepLimits& l = scene.limits;
+    auto finite_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    return {{"used_s", scene.system.dt},
+            {"rayleigh_s", finite_or_null(l.rayleigh)},
+            {"hertz_s", finite_or_null(l.hertz)},
+            {"drag_relaxation_s", finite_or_null(l.drag)},
+            {"critical_s", l.critical},
+            {"limiting", l.limiting},
+            {"stable_limit_s", l.stable_limit},
+            {"characteristic_speed_m_s", scene.characteristic_speed}};
+}
+
+}  // namespace
+
+void write_json_file(const std::string& path, const nlohmann::json& value) {
+    const std::filesystem::path p(path);
+    if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        if (!out) throw std::runtime_error("cannot write " + tmp);
+        out << value.dump(2) << '\n';
+        if (!out) throw std::runtime_error("failed writing " + tmp);
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
+    System& s = scene.system;
+    const auto t0 = Clock::now();
+    install_interrupt_handler();
+    std::filesystem::create_directories(scene.output.directory);
+    const std::string checkpoint = checkpoint_path_of(scene);
+
+    RunOutcome outcome;
+    nlohmann::json& report = outcome.report;
+    report["mrjam_version"] = MRJAM_VERSION;
+    report["mode"] = options.mode;
+    report["scene_file"] = options.scene_path;
+    report["seed"] = scene.seed;
+    report["threads"] = s.threads;
+    report["inputs"] = scene.resolved;
+    report["timestep"] = timestep_json(scene);
+    report["warnings"] = scene.warnings;
+    nlohmann::json stage_log = nlohmann::json::array();
+
+    const long total = scene.total_steps();
+    long done_before = 0;
+    for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k) done_before += scene.stages[k].steps;
+    done_before += pos.step_in_stage;
+    const long start_step_count = done_before;
+    const std::size_t n = s.particles.size();
+
+    auto last_progress = Clock::now();
+    auto last_checkpoint = Clock::now();
+    std::string status = "complete";
+
+    try {
+        for (std::size_t k = pos.stage; k < scene.stages.size(); ++k) {
+            const Stage& st = scene.stages[k];
+            const bool fresh = !(k == pos.stage && pos.stage_started);
+            start_stage(s, st, fresh);
+            // A resumed stage keeps the neighbour list and forces of its checkpoint, so the run
+            // continues exactly as if it had not stopped.
+            if (fresh) prepare(s);
+            long i = (k == pos.stage) ? pos.step_in_stage : 0;
+            pos = ProtocolPosition{k, i, true};
+            for (; i < st.steps; ++i) {
+                advance(s);
+                ++done_before;
+                pos.step_in_stage = i + 1;
+                if (observer) observer(s, k, i + 1);
+                if (scene.output.snapshots && s.step % scene.output.snapshot_every == 0) {
+                    const auto path = std::filesystem::path(scene.output.directory) /
+                                      ("snapshot_" + std::to_string(s.step) + snapshot_extension(scene.output.snapshot_format));
+                    write_snapshot(path.string(), scene.output.snapshot_format, s.particles, s.domain, s.step, s.time);
+                }
+                const bool ck_steps = scene.output.checkpoint_every_steps > 0 && s.step % scene.output.checkpoint_every_steps == 0;
+                if (ck_steps || seconds_since(last_checkpoint) > scene.output.checkpoint_every_seconds) {
+                    write_checkpoint(checkpoint, scene.resolved, s, pos, stage_log);
+                    last_checkpoint = Clock::now();
+                }
+                if (options.progress && seconds_since(last_progress) > scene.output.progress_interval_s) {
+                    const double elapsed = seconds_since(t0);
+                    const double rate = (done_before - start_step_count) / std::max(elapsed, 1e-9);
+                    std::fprintf(stderr, "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%%), t = %.4g s, %.3g grain-steps/s, ETA %.0f s\n",
+                                 options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i + 1, st.steps,
+                                 100.0 * done_before / std::max(total, 1L), s.time, rate * n,
+                                 (total - done_before) / std::max(rate, 1e-9));
+                    last_progress = Clock::now();
+                }
+                if (interrupt_requested()) break;
+            }
+            if (interrupt_requested()) { status = "interrupted"; break; }
+            stage_log.push_back({{"name", st.name}, {"steps", st.steps}, {"end_time_s", s.time}, {"state", state_summary(s)}});
+            pos = ProtocolPosition{k + 1, 0, false};
+        }
+    } catch (const BlowUp& e) {
+        status = "failed";
+        report["error"] = e.what();
+        outcome.exit_status = 3;
+    }
+
+    if (status == "interrupted") {
+        write_checkpoint(checkpoint, scene.resolved, s, pos, stage_log);
+        report["checkpoint"] = checkpoint;
+        report["resume_with"] = "mrjam " + options.mode + " --resume " + checkpoint;
+        outcome.exit_status = 130;
+        std::fprintf(stderr, "[%s] interrupted at step %ld; checkpoint written to %s\n", options.mode.c_str(), s.step,
+                     checkpoint.c_str());
+    }
+    const double wall = seconds_since(t0);
+    const long steps_run = done_before - start_step_count;
+    report["status"] = status;
+    report["partial"] = status != "complete";
+    report["results"] = state_summary(s);
+    report["results"]["stages"] = stage_log;
+    report["performance"] = {{"steps_run", steps_run},
+                             {"grain_steps_per_s", steps_run * static_cast<double>(n) / std::max(wall, 1e-9)},
+                             {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, steps_run * static_cast<double>(n))}};
+    report["wall_time_s"] = wall;
+    if (!options.report_path.empty()) write_json_file(options.report_path, report);
+    return outcome;
+}
+
+}  // namespace mrjam

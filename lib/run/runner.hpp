@@ -1,0 +1,37 @@
+#pragma once
+// Executes a scene's protocol: stages in order, progress on stderr, snapshots, checkpoints,
+// interrupt handling, and the JSON report.
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "io/checkpoint.hpp"
+#include "scene/scene.hpp"
+
+namespace mrjam {
+
+struct RunOptions {
+    std::string scene_path;       // echoed into the report
+    std::string report_path;      // where the report goes ("" for none)
+    bool progress = true;         // progress lines on stderr
+    std::string mode = "run";
+};
+
+struct RunOutcome {
+    nlohmann::json report;
+    int exit_status = 0;  // 0 complete, 130 interrupted (checkpoint written), 3 blow-up
+};
+
+// Called after every step; a mode uses it to observe (flux, stress samples). It must not change
+// the state. It receives the stage index and the step within the stage.
+using StepObserver = std::function<void(const System&, std::size_t stage, long step_in_stage)>;
+
+// Runs from `start` (the beginning, or a checkpoint's position after restore_state).
+RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition start = {},
+                        const StepObserver& observer = {});
+
+// Writes a JSON file atomically (temporary file, then rename).
+void write_json_file(const std::string& path, const nlohmann::json& value);
+
+}  // namespace mrjam

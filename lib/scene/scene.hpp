@@ -1,0 +1,74 @@
+#pragma once
+// A scene read from its JSON file: the system to integrate and the protocol to run on it.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/region.hpp"
+#include "io/snapshot.hpp"
+#include "system.hpp"
+#include "timestep.hpp"
+
+namespace mrjam {
+
+using json = nlohmann::json;
+
+// One phase of a protocol (settle, freeze the rafts, shear ...). Actions apply at its start.
+struct Stage {
+    struct RaftForm {
+        std::string name;
+        Region region;   // grains whose centres lie inside join the raft
+        Vec3 velocity;
+    };
+    std::string name;
+    long steps = -1;        // -1 until choose_timestep converts `duration`
+    double duration = 0;    // s, when the scene gave a duration instead of steps
+    std::vector<RaftForm> form_rafts;
+    std::vector<std::pair<std::string, Vec3>> raft_velocities;  // for rafts formed earlier
+    std::vector<std::string> release;                            // rafts whose grains go free
+    std::vector<std::pair<std::string, Vec3>> wall_velocities;
+    std::shared_ptr<FlowField> flow;                             // null: keep the current flow
+};
+
+struct OutputPlan {
+    std::string directory = ".";
+    bool snapshots = false;
+    SnapshotFormat snapshot_format = SnapshotFormat::vtk_legacy;
+    long snapshot_every = 0;
+    long checkpoint_every_steps = 0;   // 0: only on interrupt and at the end
+    double checkpoint_every_seconds = 600;
+    std::string checkpoint_path;       // empty: <directory>/checkpoint.mrjam
+    double progress_interval_s = 5;
+};
+
+struct Scene {
+    System system;
+    std::vector<Stage> stages;
+    OutputPlan output;
+    std::uint64_t seed = 1;
+    double characteristic_speed = 1.0;
+    double timestep_safety = 0.1;
+    double requested_timestep = 0;  // 0: automatic
+    double skin_fraction = 0.1;     // Verlet skin as a fraction of the mean diameter
+    TimestepLimits limits;
+    json resolved;                  // the scene with every default filled in, SI numbers
+    std::vector<std::string> warnings;
+    long total_steps() const;
+};
+
+struct BuildOptions {
+    bool insert_grains = true;  // false when a checkpoint supplies the grains
+    int threads = 1;
+};
+
+// Reads and checks a scene; throws SceneError (path + expectation) before any work on bad input.
+Scene build_scene(const json& input, const BuildOptions& options);
+
+// Sets the time step from the grains present (automatic, or the requested one after checking it
+// against the stable limit; a SceneError names /run/timestep and the limit otherwise).
+void choose_timestep(Scene& scene);
+
+}  // namespace mrjam

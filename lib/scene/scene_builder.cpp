@@ -1,0 +1,321 @@
+// Scene file -> System and protocol. Every check that can be made before work is made here.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "geometry/packing.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_parts.hpp"
+
+namespace mrjam {
+namespace {
+
+constexpr double kRandomClosePacking = 0.64;
+
+std::string fmt(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+Domain read_domain(SceneNode node) {
+    Domain d;
+    d.lo = node.vector("lo", units::length, std::nullopt);
+    d.hi = node.vector("hi", units::length, std::nullopt);
+    for (int k = 0; k < 3; ++k)
+        if (!(d.hi[k] > d.lo[k])) node.fail("hi", "each component must exceed the matching component of lo");
+    const auto flags = node.axis_flags("periodic", std::vector<bool>{false, false, false});
+    for (int k = 0; k < 3; ++k) d.periodic[k] = flags[k];
+    node.finish();
+    return d;
+}
+
+Material read_material(SceneNode node) {
+    Material m;
+    m.name = node.text("name", std::nullopt);
+    m.density = node.quantity("density", units::density, std::nullopt, Bounds::positive());
+    m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::positive());
+    m.poisson_ratio = node.number("poisson_ratio", 0.3, Bounds::closed(-0.99, 0.5));
+    m.restitution = node.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0));
+    m.friction = node.number("friction", 0.5, Bounds::non_negative());
+    m.rolling_friction = node.number("rolling_friction", 0.0, Bounds::non_negative());
+    m.rolling_damping = node.number("rolling_damping", 0.0, Bounds::non_negative());
+    m.rolling_stiffness = node.quantity("rolling_stiffness", units::stiffness, 0.0, Bounds::non_negative());
+    m.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
+    m.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative());
+    m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::non_negative());
+    node.finish();
+    return m;
+}
+
+void read_contact(SceneNode node, PhysicsSettings& ph) {
+    ph.contact = node.choice("model", {"hertz_mindlin", "none"}, "hertz_mindlin") == "hertz_mindlin";
+    const std::string rolling = node.choice("rolling", {"none", "epsd", "sds"}, "none");
+    ph.rolling = rolling == "epsd" ? RollingModel::epsd : rolling == "sds" ? RollingModel::sds : RollingModel::none;
+    const std::string cohesion = node.choice("cohesion", {"none", "sjkr", "dmt"}, "none");
+    ph.cohesion = cohesion == "sjkr" ? CohesionModel::sjkr : cohesion == "dmt" ? CohesionModel::dmt : CohesionModel::none;
+    node.finish();
+}
+
+// One batch of grains: a material, a size distribution, a placement and initial motion.
+void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& names, Rng& rng, bool insert) {
+    System& s = scene.system;
+    const std::uint16_t mat = material_index(node, "material", names, names.front());
+    SizeDistribution sizes = read_size_distribution(node.object("size"));
+    SceneNode place = node.object("placement");
+    const std::string method = place.choice("method", {"random", "lattice", "list"}, "random");
+    // A grain must fit in the box on every axis; on a periodic axis it must also leave room for
+    // the minimum image (checked with the neighbour cutoff in build_scene).
+    for (int k = 0; k < 3; ++k)
+        if (sizes.max_diameter() >= s.domain.length()[k])
+            node.fail("size", "the largest grain (" + fmt(sizes.max_diameter()) + " m) does not fit in the box (" +
+                                  fmt(s.domain.length()[k]) + " m along " + char('x' + k) + "); enlarge /domain");
+    const Vec3 spin = node.vector("angular_velocity", units::frequency, Vec3{});
+    const Vec3 v0 = node.vector("velocity", units::velocity, Vec3{});
+    const double random_speed = node.quantity("random_velocity", units::velocity, 0.0, Bounds::non_negative());
+
+    std::vector<Sphere> spheres;
+    if (method == "random") {
+        const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
+        if (phi > kRandomClosePacking)
+            place.fail("volume_fraction", "cannot exceed random close packing of spheres, " + fmt(kRandomClosePacking));
+        Region region = place.has("region") ? read_region(place.object("region"), s.domain) : Region::box(s.domain.lo, s.domain.hi);
+        PackingOptions opt;
+        opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+        if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
+            place.fail("region", "the largest grain does not fit inside the insertion region");
+        place.finish();
+        if (insert) {
+            try {
+                const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
+                spheres = r.spheres;
+                if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
+                    scene.warnings.push_back(node.path() + ": packed volume fraction " + fmt(r.achieved_volume_fraction) +
+                                             " differs from the requested " + fmt(phi));
+            } catch (const std::exception& e) {
+                place.fail("volume_fraction", e.what());
+            }
+        }
+    } else if (method == "lattice") {
+        if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
+            node.fail("size", "lattice placement needs a single grain size");
+        const double diameter = sizes.max_diameter();
+        const double spacing = place.quantity("spacing", units::length, diameter, Bounds::positive());
+        if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + fmt(diameter));
+        const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
+        Region region = place.has("region") ? read_region(place.object("region"), s.domain) : Region::box(s.domain.lo, s.domain.hi);
+        place.finish();
+        if (insert) spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
+    } else {
+        const json& list = place.raw("positions");
+        if (!list.is_array() || list.empty()) place.fail("positions", "expected a non-empty array of [x, y, z]");
+        if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
+            node.fail("size", "list placement needs a single grain size");
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            json out = json::object();
+            json in = {{"p", list[i]}};
+            SceneNode item(in, out, place.path_of("positions") + "/" + std::to_string(i));
+            spheres.push_back({item.vector("p", units::length, std::nullopt), 0.5 * sizes.max_diameter()});
+        }
+        place.finish();
+        if (!insert) spheres.clear();
+    }
+    node.finish();
+
+    Particles& p = s.particles;
+    for (const Sphere& sp : spheres) {
+        const std::size_t i = p.add(sp.centre, sp.radius, s.materials[mat].density, mat);
+        p.id[i] = i;
+        Vec3 v = v0;
+        if (random_speed > 0)
+            for (int k = 0; k < 3; ++k) v[k] += rng.uniform(-random_speed, random_speed);
+        p.velocity[i] = v;
+        p.angular_velocity[i] = spin;
+    }
+}
+
+Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names) {
+    Stage st;
+    st.name = node.text("name", "stage");
+    if (node.has("steps") == node.has("duration"))
+        node.fail("steps", "give exactly one of 'steps' or 'duration'");
+    if (node.has("steps")) {
+        st.steps = node.integer("steps", std::nullopt, 0);
+    } else {
+        st.duration = node.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
+    }
+    for (auto r : node.objects("form_rafts")) {
+        Stage::RaftForm f;
+        f.name = r.text("name", std::nullopt);
+        f.region = read_region(r.object("region"), scene.system.domain);
+        f.velocity = r.vector("velocity", units::velocity, Vec3{});
+        r.finish();
+        st.form_rafts.push_back(f);
+    }
+    for (auto r : node.objects("raft_velocities")) {
+        st.raft_velocities.emplace_back(r.text("name", std::nullopt), r.vector("velocity", units::velocity, std::nullopt));
+        r.finish();
+    }
+    if (node.has("release")) {
+        const json& rel = node.raw("release");
+        if (!rel.is_array()) node.fail("release", "expected an array of raft names");
+        for (const auto& r : rel) {
+            if (!r.is_string()) node.fail("release", "expected an array of raft names");
+            st.release.push_back(r.get<std::string>());
+        }
+    }
+    for (auto w : node.objects("wall_velocities")) {
+        const std::string name = w.choice("name", wall_names.empty() ? std::vector<std::string>{"(no walls)"} : wall_names, std::nullopt);
+        st.wall_velocities.emplace_back(name, w.vector("velocity", units::velocity, std::nullopt));
+        w.finish();
+    }
+    if (node.has("flow")) st.flow = read_flow(node.object("flow"), scene.system.domain);
+    node.finish();
+    return st;
+}
+
+void read_output(SceneNode node, OutputPlan& out) {
+    out.directory = node.text("directory", ".");
+    if (auto snap = node.optional_object("snapshots")) {
+        try {
+            out.snapshot_format = snapshot_format_from_name(snap->text("format", "vtk"));
+        } catch (const std::invalid_argument& e) {
+            snap->fail("format", e.what());
+        }
+        out.snapshot_every = snap->integer("every", std::nullopt, 1);
+        out.snapshots = true;
+        snap->finish();
+    }
+    if (auto ck = node.optional_object("checkpoint")) {
+        out.checkpoint_every_steps = ck->integer("every_steps", 0, 0);
+        out.checkpoint_every_seconds = ck->quantity("every_seconds", units::time, 600.0, Bounds::positive());
+        out.checkpoint_path = ck->text("path", "");
+        ck->finish();
+    }
+    out.progress_interval_s = node.quantity("progress_interval", units::time, 5.0, Bounds::positive());
+    node.finish();
+}
+
+}  // namespace
+
+long Scene::total_steps() const {
+    long n = 0;
+    for (const auto& st : stages) n += st.steps;
+    return n;
+}
+
+Scene build_scene(const json& input, const BuildOptions& options) {
+    Scene scene;
+    scene.resolved = json::object();
+    SceneNode root(input, scene.resolved, "");
+    root.text("mode", "run");
+    root.text("description", "");
+    scene.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
+    System& s = scene.system;
+    s.threads = options.threads;
+    s.domain = read_domain(root.object("domain"));
+
+    std::vector<std::string> names;
+    for (auto m : root.objects("materials", true)) {
+        s.materials.push_back(read_material(m));
+        if (std::find(names.begin(), names.end(), s.materials.back().name) != names.end())
+            m.fail("name", "material names must be unique");
+        names.push_back(s.materials.back().name);
+    }
+    if (names.empty()) root.fail("materials", "needs at least one material");
+    s.pairs = PairTable(s.materials);
+
+    if (auto c = root.optional_object("contact")) read_contact(*c, s.physics);
+    else { json in = json::object(); read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics); }
+
+    if (auto f = root.optional_object("fluid")) {
+        s.physics.drag = true;
+        s.physics.viscosity = f->quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
+        s.physics.fluid_density = f->quantity("density", units::density, 0.0, Bounds::non_negative());
+        if (auto fl = f->optional_object("flow")) s.flow = read_flow(*fl, s.domain);
+        f->finish();
+    }
+    if (root.has("gravity")) {
+        s.physics.gravity = true;
+        s.physics.gravity_acceleration = root.vector("gravity", units::acceleration, std::nullopt);
+    }
+
+    std::vector<std::string> wall_names;
+    for (auto w : root.objects("walls")) {
+        s.walls.push_back(read_wall(w, names));
+        wall_names.push_back(s.walls.back().name);
+    }
+
+    SceneNode run = root.object("run");
+    scene.characteristic_speed = run.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
+    scene.timestep_safety = run.number("timestep_safety", 0.1, Bounds::open_closed(0.0, kMaxStepFraction));
+    if (run.has("timestep") && run.raw("timestep").is_string() && run.raw("timestep").get<std::string>() == "auto") {
+        scene.requested_timestep = 0;
+    } else {
+        scene.requested_timestep = run.quantity("timestep", units::time, 0.0, Bounds::non_negative());
+        if (scene.requested_timestep == 0) scene.resolved["run"]["timestep"] = "auto";
+    }
+    s.max_overlap_fraction = run.number("max_overlap_fraction", 0.1, Bounds::open(0.0, 1.0));
+    // Verlet skin, as a fraction of the mean grain diameter.
+    const double skin_fraction = run.number("skin", 0.1, Bounds::open_closed(0.0, 2.0));
+
+    Rng rng(scene.seed);
+    std::size_t batches = 0;
+    for (auto g : root.objects("grains", true)) {
+        read_grains(g, scene, names, rng, options.insert_grains);
+        ++batches;
+    }
+    if (batches == 0) root.fail("grains", "needs at least one batch of grains");
+    // The skin length needs the grain sizes, known once grains exist (choose_timestep).
+    scene.skin_fraction = skin_fraction;
+
+    auto stage_nodes = root.objects("stages");
+    if (stage_nodes.empty()) {
+        Stage st;
+        st.name = "run";
+        if (run.has("steps") == run.has("duration")) run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
+        if (run.has("steps")) st.steps = run.integer("steps", std::nullopt, 0);
+        else st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
+        scene.stages.push_back(std::move(st));
+    } else {
+        for (auto st : stage_nodes) scene.stages.push_back(read_stage(st, scene, wall_names));
+    }
+    run.finish();
+    if (auto out = root.optional_object("output")) read_output(*out, scene.output);
+    else { json in = json::object(); read_output(SceneNode(in, scene.resolved["output"], "/output"), scene.output); }
+    root.finish();
+    return scene;
+}
+
+void choose_timestep(Scene& scene) {
+    System& s = scene.system;
+    const Particles& p = s.particles;
+    if (p.size() == 0) throw SceneError("/grains", "no grains were placed; check the placement regions and sizes");
+    double r_sum = 0, r_max = 0;
+    for (double r : p.radius) { r_sum += r; r_max = std::max(r_max, r); }
+    const double skin = scene.skin_fraction * 2.0 * r_sum / p.size();
+    s.contacts = NeighborList(NeighborList::Settings{skin, 1.0, true});
+    for (int k = 0; k < 3; ++k)
+        if (s.domain.periodic[k] && s.contacts.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
+            throw SceneError("/domain/hi", "the box is too short along the periodic axis " + std::string(1, char('x' + k)) +
+                                               ": it must be more than twice the neighbour cutoff of the largest grains (" +
+                                               fmt(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
+
+    scene.limits = timestep_limits(s, scene.characteristic_speed);
+    if (scene.requested_timestep > 0) {
+        if (scene.requested_timestep > scene.limits.stable_limit)
+            throw SceneError("/run/timestep", "the requested step " + fmt(scene.requested_timestep) +
+                                                  " s is above the stable limit " + fmt(scene.limits.stable_limit) + " s (" +
+                                                  fmt(kMaxStepFraction) + " of the " + scene.limits.limiting + ", " +
+                                                  fmt(scene.limits.critical) + " s); use a shorter step or \"auto\"");
+        s.dt = scene.requested_timestep;
+    } else {
+        s.dt = scene.timestep_safety * scene.limits.critical;
+    }
+    scene.resolved["run"]["timestep_used"] = s.dt;
+    for (auto& st : scene.stages) {
+        if (st.steps < 0) st.steps = std::max(1L, static_cast<long>(std::ceil(st.duration / s.dt - 1e-9)));
+    }
+}
+
+}  // namespace mrjam

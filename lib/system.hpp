@@ -1,0 +1,67 @@
+#pragma once
+// Everything the engine integrates: grains, walls, the fluid, the physics a scene switched on.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact/hertz_mindlin.hpp"
+#include "contact/material.hpp"
+#include "core/domain.hpp"
+#include "fluid/flow_field.hpp"
+#include "neighbor/neighbor_list.hpp"
+#include "particles.hpp"
+#include "walls.hpp"
+
+namespace mrjam {
+
+// Which physics terms are built. Only what the scene names is on.
+struct PhysicsSettings {
+    bool contact = true;
+    RollingModel rolling = RollingModel::none;
+    CohesionModel cohesion = CohesionModel::none;
+    bool drag = false;
+    double viscosity = 0;      // Pa s
+    double fluid_density = 0;  // kg/m3, for buoyancy under gravity
+    bool gravity = false;
+    Vec3 gravity_acceleration{};
+};
+
+// A group of grains moved rigidly at a prescribed velocity (a raft of a shear cell, a frozen
+// layer). The force the free grains exert on it is summed each step: that is the wall stress.
+struct Raft {
+    std::string name;
+    Vec3 velocity{};
+    Vec3 force{};
+    std::size_t members = 0;
+};
+
+// Contact statistics of the last force evaluation.
+struct ContactStats {
+    std::size_t contacts = 0;
+    double max_overlap_ratio = 0;  // overlap / smaller radius
+    std::size_t worst_i = 0, worst_j = 0;
+    bool worst_is_wall = false;
+};
+
+struct System {
+    Domain domain;
+    Particles particles;
+    std::vector<Material> materials;
+    PairTable pairs;
+    PhysicsSettings physics;
+    std::shared_ptr<FlowField> flow = std::make_shared<StillFlow>();
+    std::vector<Wall> walls;
+    std::vector<Raft> rafts;
+    NeighborList contacts;
+    ContactStats contact_stats;
+
+    double time = 0;
+    long step = 0;
+    double dt = 0;
+    int threads = 1;
+
+    // Largest overlap accepted, as a fraction of the smaller radius, before the run is stopped.
+    double max_overlap_fraction = 0.1;
+};
+
+}  // namespace mrjam

@@ -1,0 +1,46 @@
+#include "timestep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/restitution.hpp"
+
+namespace mrjam {
+
+TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
+    TimestepLimits lim;
+    const double inf = std::numeric_limits<double>::infinity();
+    lim.rayleigh = lim.hertz = lim.drag = inf;
+    const Particles& p = s.particles;
+    // The smallest grain of each material sets that material's limits.
+    std::vector<std::size_t> smallest(s.materials.size(), p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        auto& k = smallest[p.material[i]];
+        if (k == p.size() || p.radius[i] < p.radius[k]) k = i;
+    }
+    for (std::size_t m = 0; m < s.materials.size(); ++m) {
+        const std::size_t i = smallest[m];
+        if (i == p.size()) continue;
+        const Material& mat = s.materials[m];
+        const double r = p.radius[i];
+        if (s.physics.contact) {
+            const double rayleigh = M_PI * r * std::sqrt(mat.density / mat.shear_modulus()) /
+                                    (0.1631 * mat.poisson_ratio + 0.8766);
+            lim.rayleigh = std::min(lim.rayleigh, rayleigh);
+            // Two smallest grains of this material meeting head on.
+            const double ystar = s.pairs(static_cast<std::uint16_t>(m), static_cast<std::uint16_t>(m)).effective_youngs;
+            lim.hertz = std::min(lim.hertz, hertz_contact_duration(0.5 * p.mass[i], 0.5 * r, ystar, characteristic_speed));
+        }
+        if (s.physics.drag && s.physics.viscosity > 0)
+            lim.drag = std::min(lim.drag, p.mass[i] / (6.0 * M_PI * s.physics.viscosity * r));
+    }
+    lim.critical = std::min({lim.rayleigh, lim.hertz, lim.drag});
+    lim.limiting = lim.critical == lim.rayleigh ? "Rayleigh time of the smallest grain"
+                   : lim.critical == lim.hertz  ? "Hertz contact time of the smallest pair"
+                                                : "Stokes drag relaxation time of the smallest grain";
+    lim.stable_limit = kMaxStepFraction * lim.critical;
+    return lim;
+}
+
+}  // namespace mrjam

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Installs everything mrjam needs from Debian's packages (run as root on a fresh machine).
+set -euo pipefail
+packages=(build-essential cmake libeigen3-dev libcli11-dev nlohmann-json3-dev doctest-dev)
+missing=()
+for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+fi
