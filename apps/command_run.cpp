@@ -38,6 +38,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
         build.threads = args->threads;
         Scene scene;
         ProtocolPosition start;
+        nlohmann::json resumed_stage_log;
         if (!args->resume.empty()) {
             const CheckpointHeader header = read_checkpoint_header(args->resume);
             build.insert_grains = false;
@@ -46,6 +47,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
             choose_timestep(scene);
             restore_state(args->resume, scene.system);  // the list and step from the checkpoint win
             start = header.position;
+            resumed_stage_log = header.history;
             std::cerr << "[run] resuming from " << args->resume << " at step " << scene.system.step << "\n";
         } else {
             scene = build_scene(read_json_file(args->scene), build);
@@ -55,6 +57,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
         options.scene_path = args->resume.empty() ? args->scene : args->resume;
         options.report_path = args->report;
         options.progress = !args->quiet;
+        options.resumed_stage_log = resumed_stage_log;
         const RunOutcome outcome = run_protocol(scene, options, start);
         if (outcome.exit_status == 3) std::cerr << "error: " << outcome.report["error"].get<std::string>() << "\n";
         std::cerr << "[run] " << outcome.report["status"].get<std::string>() << "; report written to " << args->report << "\n";

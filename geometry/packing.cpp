@@ -217,11 +217,9 @@ private:
             ++count[band_[i]];
         }
         Vec3 origin, extent;
-        std::array<bool, 3> wrap{};
         for (int k = 0; k < 3; ++k) {
-            wrap[k] = region_.wraps(k, domain_);
-            origin[k] = wrap[k] ? domain_.lo[k] : region_.bbox_lo()[k];
-            extent[k] = wrap[k] ? domain_.hi[k] - domain_.lo[k] : region_.bbox_hi()[k] - origin[k];
+            origin[k] = wrap_[k] ? domain_.lo[k] : region_.bbox_lo()[k];
+            extent[k] = wrap_[k] ? period_[k] : region_.bbox_hi()[k] - origin[k];
         }
         const double grid_volume = extent.x * extent.y * extent.z;
         for (int b = 0; b < nbands_; ++b) {
@@ -229,7 +227,7 @@ private:
             const double cell = std::max(2.0 * rmax[b] * (1.0 + 1e-9), per_grain);
             std::array<GridAxis, 3> axes;
             for (int k = 0; k < 3; ++k) {
-                axes[k].wrap = wrap[k];
+                axes[k].wrap = wrap_[k];
                 axes[k].origin = origin[k];
                 axes[k].n = std::max(1, static_cast<int>(std::floor(extent[k] / cell)));
                 axes[k].inv_cell = axes[k].n / extent[k];  // actual cell >= requested

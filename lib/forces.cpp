@@ -48,8 +48,12 @@ void grain_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vecto
             const double rsum = ri + p.radius[j];
             const double r2 = norm2(d);
             if (r2 >= rsum * rsum) {
-                list.history[k] = ContactHistory{};
+                list.touching[k] = 0;
                 continue;
+            }
+            if (!list.touching[k]) {  // a new contact starts with no tangential or rolling memory
+                list.history[k] = ContactHistory{};
+                list.touching[k] = 1;
             }
             const bool frozen_j = p.raft[j] >= 0;
             if (frozen_i && frozen_j) continue;  // both move rigidly: their force does no work

@@ -8,30 +8,46 @@
 namespace mrjam {
 namespace {
 
-void half_kick(System& s) {
+// First half kick fused with the drift: one pass over the grains instead of two.
+void kick_drift(System& s) {
+    Particles& p = s.particles;
+    const double h = 0.5 * s.dt, dt = s.dt;
+    const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) num_threads(s.threads)
+    for (std::size_t i = 0; i < n; ++i) {
+        if (p.raft[i] >= 0) {  // prescribed rigid motion
+            p.velocity[i] = s.rafts[p.raft[i]].velocity;
+            p.angular_velocity[i] = Vec3{};
+        } else {
+            p.velocity[i] += p.force[i] * (h / p.mass[i]);
+            p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
+        }
+        p.position[i] += p.velocity[i] * dt;
+    }
+    for (auto& w : s.walls) w.point += w.velocity * dt;
+}
+
+// Second half kick fused with the sanity check of every grain; returns the first bad grain
+// (non-finite state, or outside the box on a closed axis) or n when all are fine.
+std::size_t kick_check(System& s) {
     Particles& p = s.particles;
     const double h = 0.5 * s.dt;
     const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) num_threads(s.threads)
+    const Domain& dom = s.domain;
+    std::size_t bad = n;
+#pragma omp parallel for schedule(static) num_threads(s.threads) reduction(min : bad)
     for (std::size_t i = 0; i < n; ++i) {
-        if (p.raft[i] >= 0) continue;  // prescribed motion
-        p.velocity[i] += p.force[i] * (h / p.mass[i]);
-        p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
-    }
-}
-
-void drift(System& s) {
-    Particles& p = s.particles;
-    const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) num_threads(s.threads)
-    for (std::size_t i = 0; i < n; ++i) {
-        if (p.raft[i] >= 0) {
-            p.velocity[i] = s.rafts[p.raft[i]].velocity;
-            p.angular_velocity[i] = Vec3{};
+        if (p.raft[i] < 0) {
+            p.velocity[i] += p.force[i] * (h / p.mass[i]);
+            p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
         }
-        p.position[i] += p.velocity[i] * s.dt;
+        bool ok = finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i]);
+        const double margin = 2 * p.radius[i];
+        for (int k = 0; k < 3; ++k)
+            ok = ok && (dom.periodic[k] || (p.position[i][k] >= dom.lo[k] - margin && p.position[i][k] <= dom.hi[k] + margin));
+        if (!ok && i < bad) bad = i;
     }
-    for (auto& w : s.walls) w.point += w.velocity * s.dt;
+    return bad;
 }
 
 std::string describe_grain(const System& s, std::size_t i) {
@@ -42,41 +58,31 @@ std::string describe_grain(const System& s, std::size_t i) {
     return out.str();
 }
 
-void check_state(const System& s) {
-    const Particles& p = s.particles;
+void fail_overlap(const System& s) {
     const ContactStats& st = s.contact_stats;
-    if (st.max_overlap_ratio > s.max_overlap_fraction) {
-        std::ostringstream out;
-        out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, st.worst_i)
-            << " overlaps " << (st.worst_is_wall ? "wall '" + s.walls[st.worst_j].name + "'" : describe_grain(s, st.worst_j))
-            << " by " << st.max_overlap_ratio << " of the smaller radius (limit " << s.max_overlap_fraction
-            << "). Likely cause: the time step (" << s.dt
-            << " s) is too long for the contact stiffness and speeds, or forces (cohesion, magnetic, "
-               "gravity, a fast wall) exceed what the Young's modulus can hold; shorten the step, "
-               "lower the loads, or raise run.max_overlap_fraction if large overlaps are intended.";
-        throw BlowUp(out.str());
+    std::ostringstream out;
+    out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, st.worst_i)
+        << " overlaps " << (st.worst_is_wall ? "wall '" + s.walls[st.worst_j].name + "'" : describe_grain(s, st.worst_j))
+        << " by " << st.max_overlap_ratio << " of the smaller radius (limit " << s.max_overlap_fraction
+        << "). Likely cause: the time step (" << s.dt
+        << " s) is too long for the contact stiffness and speeds, or forces (cohesion, magnetic, "
+           "gravity, a fast wall) exceed what the Young's modulus can hold; shorten the step, "
+           "lower the loads, or raise run.max_overlap_fraction if large overlaps are intended.";
+    throw BlowUp(out.str());
+}
+
+void fail_grain(const System& s, std::size_t i) {
+    const Particles& p = s.particles;
+    std::ostringstream out;
+    out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, i);
+    if (!finite(p.position[i]) || !finite(p.velocity[i]) || !finite(p.angular_velocity[i])) {
+        out << " has a non-finite position or velocity. Likely cause: an unstable time step, or a force "
+               "term without a length scale (zero radius or mass).";
+    } else {
+        out << " left the box through a side that is not periodic. Likely cause: no wall on that side, "
+               "or a grain pushed through a wall by a too-long time step.";
     }
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (!finite(p.position[i]) || !finite(p.velocity[i]) || !finite(p.force[i]) || !finite(p.angular_velocity[i])) {
-            std::ostringstream out;
-            out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, i)
-                << " has a non-finite position, velocity or force. Likely cause: an unstable time step or "
-                   "a zero radius or mass.";
-            throw BlowUp(out.str());
-        }
-        for (int k = 0; k < 3; ++k) {
-            if (s.domain.periodic[k]) continue;
-            const double margin = 2 * p.radius[i];
-            if (p.position[i][k] < s.domain.lo[k] - margin || p.position[i][k] > s.domain.hi[k] + margin) {
-                std::ostringstream out;
-                out << "at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, i)
-                    << " left the box on axis " << char('x' + k)
-                    << ", which is not periodic. Likely cause: no wall on that side, or a grain pushed "
-                       "through a wall by a too-long time step.";
-                throw BlowUp(out.str());
-            }
-        }
-    }
+    throw BlowUp(out.str());
 }
 
 }  // namespace
@@ -84,18 +90,18 @@ void check_state(const System& s) {
 void prepare(System& s) {
     s.contacts.build(s.particles, s.domain, s.threads);
     compute_forces(s);
-    check_state(s);
+    if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
 }
 
 void advance(System& s) {
-    half_kick(s);
-    drift(s);
+    kick_drift(s);
     s.time += s.dt;
     ++s.step;
-    if (s.contacts.needs_rebuild(s.particles)) s.contacts.build(s.particles, s.domain, s.threads);
+    if (s.contacts.needs_rebuild(s.particles, s.threads)) s.contacts.build(s.particles, s.domain, s.threads);
     compute_forces(s);
-    half_kick(s);
-    check_state(s);
+    const std::size_t bad = kick_check(s);
+    if (bad < s.particles.size()) fail_grain(s, bad);
+    if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
 }
 
 }  // namespace mrjam

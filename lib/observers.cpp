@@ -30,6 +30,9 @@ nlohmann::json state_summary(const System& s) {
     const EnergyBreakdown e = energy(s);
     nlohmann::json j;
     j["grains"] = s.particles.size();
+    double total_mass = 0;
+    for (double m : s.particles.mass) total_mass += m;
+    j["total_mass_kg"] = total_mass;
     j["steps"] = s.step;
     j["simulated_time_s"] = s.time;
     j["timestep_s"] = s.dt;

@@ -122,6 +122,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     const std::vector<std::uint32_t> old_offsets = std::move(offsets);
     const std::vector<std::uint32_t> old_partners = std::move(partners);
     const std::vector<ContactHistory> old_history = std::move(history);
+    const std::vector<std::uint8_t> old_touching = std::move(touching);
     const bool carry = settings_.keep_history && old_offsets.size() == n + 1;
 
     struct Chunk {
@@ -129,6 +130,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
         std::vector<std::uint32_t> partner;
         std::vector<std::uint8_t> image;
         std::vector<ContactHistory> history;
+        std::vector<std::uint8_t> touching;
     };
     const int nthreads = std::max(1, threads);
     std::vector<Chunk> chunks(nthreads);
@@ -170,13 +172,15 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             // image code: shift = -w L added to x_i - x_j.
                             const auto code = static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
                             ContactHistory h{};
+                            std::uint8_t touch = 0;
                             if (carry) {
                                 for (std::uint32_t k = old_offsets[i]; k < old_offsets[i + 1]; ++k)
-                                    if (old_partners[k] == j) { h = old_history[k]; break; }
+                                    if (old_partners[k] == j) { h = old_history[k]; touch = old_touching[k]; break; }
                             }
                             ch.partner.push_back(j);
                             ch.image.push_back(code);
                             ch.history.push_back(h);
+                            ch.touching.push_back(touch);
                             ++ch.count[ii - begin];
                         }
                     }
@@ -187,23 +191,25 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     std::size_t total = 0;
     for (const auto& ch : chunks) total += ch.partner.size();
     partners.reserve(total); image.clear(); image.reserve(total); history.reserve(total);
+    touching.clear(); touching.reserve(total);
     std::size_t i = 0;
     for (const auto& ch : chunks) {
         for (auto c : ch.count) { offsets[i + 1] = offsets[i] + c; ++i; }
         partners.insert(partners.end(), ch.partner.begin(), ch.partner.end());
         image.insert(image.end(), ch.image.begin(), ch.image.end());
         history.insert(history.end(), ch.history.begin(), ch.history.end());
+        touching.insert(touching.end(), ch.touching.begin(), ch.touching.end());
     }
     position_at_build_ = p.position;
     ++builds_;
 }
 
-bool NeighborList::needs_rebuild(const Particles& p) const {
+bool NeighborList::needs_rebuild(const Particles& p, int threads) const {
     if (position_at_build_.size() != p.size()) return true;
     const double limit2 = 0.25 * settings_.skin * settings_.skin;
     const std::size_t n = p.size();
     int moved = 0;
-#pragma omp parallel for reduction(| : moved) schedule(static)
+#pragma omp parallel for reduction(| : moved) schedule(static) num_threads(threads)
     for (std::size_t i = 0; i < n; ++i)
         if (norm2(p.position[i] - position_at_build_[i]) > limit2) moved = 1;
     return moved != 0;
@@ -219,6 +225,7 @@ void NeighborList::save(std::ostream& out) const {
     binary::put_vector(out, partners);
     binary::put_vector(out, image);
     binary::put_vector(out, history);
+    binary::put_vector(out, touching);
     binary::put_vector(out, position_at_build_);
     for (const Vec3& s : shifts_) binary::put(out, s);
     binary::put(out, builds_);
@@ -230,6 +237,7 @@ void NeighborList::load(std::istream& in) {
     binary::get_vector(in, partners);
     binary::get_vector(in, image);
     binary::get_vector(in, history);
+    binary::get_vector(in, touching);
     binary::get_vector(in, position_at_build_);
     for (Vec3& s : shifts_) s = binary::get<Vec3>(in);
     builds_ = binary::get<long>(in);

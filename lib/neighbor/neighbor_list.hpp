@@ -40,13 +40,17 @@ public:
     // too short for the cutoff (the minimum image would be ambiguous).
     void build(Particles& p, const Domain& domain, int threads);
 
-    bool needs_rebuild(const Particles& p) const;
+    bool needs_rebuild(const Particles& p, int threads) const;
 
     // Pair k of owner i: k in [offsets[i], offsets[i+1]).
     std::vector<std::uint32_t> offsets;
     std::vector<std::uint32_t> partners;
     std::vector<std::uint8_t> image;          // index into image_shift(): x_i - x_j + shift
     std::vector<ContactHistory> history;
+    // 1 while the pair touches. History is zeroed when a contact starts, not every step a pair
+    // is apart: a one-byte flag instead of a 48-byte write for each of the many listed pairs
+    // that do not touch.
+    std::vector<std::uint8_t> touching;
     const Vec3& image_shift(std::uint8_t code) const { return shifts_[code]; }
 
     std::size_t pair_count() const { return partners.size(); }

@@ -122,7 +122,8 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     report["inputs"] = scene.resolved;
     report["timestep"] = timestep_json(scene);
     report["warnings"] = scene.warnings;
-    nlohmann::json stage_log = nlohmann::json::array();
+    nlohmann::json stage_log =
+        options.resumed_stage_log.is_array() ? options.resumed_stage_log : nlohmann::json::array();
 
     const long total = scene.total_steps();
     long done_before = 0;

@@ -16,6 +16,9 @@ struct RunOptions {
     std::string report_path;      // where the report goes ("" for none)
     bool progress = true;         // progress lines on stderr
     std::string mode = "run";
+    // When resuming: the stage log the checkpoint carried (CheckpointHeader::history), so the
+    // report and later checkpoints still list the stages finished before it. Null otherwise.
+    nlohmann::json resumed_stage_log;
 };
 
 struct RunOutcome {

@@ -6,6 +6,7 @@
 #include "geometry/packing.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_parts.hpp"
+#include "spatial_sort.hpp"
 
 namespace mrjam {
 namespace {
@@ -255,6 +256,11 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         scene.requested_timestep = run.quantity("timestep", units::time, 0.0, Bounds::non_negative());
         if (scene.requested_timestep == 0) scene.resolved["run"]["timestep"] = "auto";
     }
+    // choose_timestep() records the step it chose as run.timestep_used in the resolved scene, and
+    // a checkpoint (or a report's "inputs" fed back as a scene) carries that copy. It is an output,
+    // recomputed from the grains by choose_timestep(): accept it here so such a scene reads back,
+    // but ignore its value.
+    run.has("timestep_used");
     s.max_overlap_fraction = run.number("max_overlap_fraction", 0.1, Bounds::open(0.0, 1.0));
     // Verlet skin, as a fraction of the mean grain diameter.
     const double skin_fraction = run.number("skin", 0.1, Bounds::open_closed(0.0, 2.0));
@@ -266,6 +272,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         ++batches;
     }
     if (batches == 0) root.fail("grains", "needs at least one batch of grains");
+    sort_spatially(s.particles, s.domain);
     // The skin length needs the grain sizes, known once grains exist (choose_timestep).
     scene.skin_fraction = skin_fraction;
 
