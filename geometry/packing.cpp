@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -60,7 +61,7 @@ struct GridAxis {
 // `next` array shared by all bands (each grain is in exactly one band).
 class CellGrid {
 public:
-    CellGrid(const std::array<GridAxis, 3>& axes) : axes_(axes) {
+    explicit CellGrid(const std::array<GridAxis, 3>& axes) : axes_(axes) {
         head_.assign(static_cast<std::size_t>(axes[0].n) * axes[1].n * axes[2].n, -1);
     }
 
@@ -162,7 +163,8 @@ public:
         }
     }
 
-    // Collective rearrangement until the worst overlap ratio is below tol; returns sweeps used.
+    // Collective rearrangement until the worst overlap ratio is below tol. Returns the sweeps
+    // used, or -1 if max_sweeps were not enough (final_ratio() then says how far off it was).
     int relax(double tol, int max_sweeps) {
         double sweep_max = std::numeric_limits<double>::infinity();
         for (int sweep = 0;; ++sweep) {

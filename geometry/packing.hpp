@@ -41,8 +41,10 @@ struct PackingResult {
 //     pair (minimum image on periodic axes) is pushed apart along the line of centres, each grain
 //     moving in proportion to the OTHER's volume (a fine grain moves out of a coarse one's way),
 //     and moved centres are clamped back into the region at once (Gauss-Seidel: later pairs
-//     see the update). Sweeps repeat until the worst overlap / smaller radius is below
-//     options.overlap_tolerance, checked on a fresh neighbour grid with no moves.
+//     see the update). Each pair is pushed slightly past contact, to a gap equal to its overlap
+//     but at most 0.1 of the smaller radius; that over-relaxation cuts the sweeps needed near
+//     random close packing several-fold. Sweeps repeat until the worst overlap / smaller radius
+//     is below options.overlap_tolerance, checked on a fresh neighbour grid with no moves.
 // Neighbour search is O(N) for any size ratio: grains are binned by radius into bands a factor
 // 2 apart, each band with its own grid of cells at least one band-diameter wide; a grain looks
 // only at the 27 cells around it in its own band and in coarser bands, which holds every grain

@@ -188,7 +188,7 @@ void compute_all(System& s) {
             grain_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
             wall_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], wall_force[tid], b.raft_force[tid], begin, end);
         }
-        body_forces(s, f, begin, end);
+        if (s.physics.drag || s.physics.gravity) body_forces(s, f, begin, end);
 #pragma omp barrier
         // Reduce the private buffers, each thread summing its own slice of grains in thread order.
         for (int other = 1; other < nthreads; ++other) {

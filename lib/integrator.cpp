@@ -8,12 +8,14 @@
 namespace mrjam {
 namespace {
 
-// First half kick fused with the drift: one pass over the grains instead of two.
-void kick_drift(System& s) {
+// First half kick fused with the drift and the neighbour-list displacement test: one pass over
+// the grains instead of three. Returns true when the list must be rebuilt.
+bool kick_drift(System& s) {
     Particles& p = s.particles;
     const double h = 0.5 * s.dt, dt = s.dt;
     const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) num_threads(s.threads)
+    int moved = p.size() + 1 != s.contacts.offsets.size();
+#pragma omp parallel for schedule(static) num_threads(s.threads) reduction(| : moved)
     for (std::size_t i = 0; i < n; ++i) {
         if (p.raft[i] >= 0) {  // prescribed rigid motion
             p.velocity[i] = s.rafts[p.raft[i]].velocity;
@@ -23,8 +25,10 @@ void kick_drift(System& s) {
             p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
         }
         p.position[i] += p.velocity[i] * dt;
+        moved |= s.contacts.moved_beyond_skin(i, p.position[i]);
     }
     for (auto& w : s.walls) w.point += w.velocity * dt;
+    return moved != 0;
 }
 
 // Second half kick fused with the sanity check of every grain; returns the first bad grain
@@ -94,10 +98,10 @@ void prepare(System& s) {
 }
 
 void advance(System& s) {
-    kick_drift(s);
+    const bool rebuild = kick_drift(s);
     s.time += s.dt;
     ++s.step;
-    if (s.contacts.needs_rebuild(s.particles, s.threads)) s.contacts.build(s.particles, s.domain, s.threads);
+    if (rebuild) s.contacts.build(s.particles, s.domain, s.threads);
     compute_forces(s);
     const std::size_t bad = kick_check(s);
     if (bad < s.particles.size()) fail_grain(s, bad);

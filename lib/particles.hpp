@@ -25,11 +25,21 @@ struct Particles {
 
     std::size_t size() const { return position.size(); }
 
+    // Calls f on every per-grain array, so resizing, reordering and checkpointing cannot miss
+    // one when a field is added.
+    template <class F>
+    void for_each_array(F&& f) {
+        f(position); f(velocity); f(angular_velocity); f(force); f(torque); f(radius); f(mass);
+        f(inertia); f(dipole_moment); f(material); f(groups); f(id); f(raft);
+    }
+    template <class F>
+    void for_each_array(F&& f) const {
+        const_cast<Particles*>(this)->for_each_array([&](const auto& a) { f(a); });
+    }
+
     void resize(std::size_t n) {
-        position.resize(n); velocity.resize(n); angular_velocity.resize(n);
-        force.resize(n); torque.resize(n); radius.resize(n); mass.resize(n); inertia.resize(n);
-        dipole_moment.resize(n); material.resize(n); groups.resize(n); id.resize(n);
-        raft.resize(n, -1);
+        raft.resize(n, -1);  // new grains start free; the generic resize below leaves it as is
+        for_each_array([n](auto& a) { a.resize(n); });
     }
 
     // Appends a sphere at rest; mass and inertia follow from radius and density.

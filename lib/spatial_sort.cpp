@@ -44,18 +44,7 @@ void sort_spatially(Particles& p, const Domain& domain) {
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
-    permute(p.position, order);
-    permute(p.velocity, order);
-    permute(p.angular_velocity, order);
-    permute(p.force, order);
-    permute(p.torque, order);
-    permute(p.radius, order);
-    permute(p.mass, order);
-    permute(p.inertia, order);
-    permute(p.dipole_moment, order);
-    permute(p.material, order);
-    permute(p.groups, order);
-    permute(p.raft, order);
+    p.for_each_array([&](auto& a) { permute(a, order); });
     for (std::size_t i = 0; i < n; ++i) p.id[i] = i;  // ids follow the new order from the start
 }
 

@@ -305,12 +305,14 @@ TEST_SUITE("physics") {
 // ---- 1. Head-on grain-grain collisions ------------------------------------------------------
 
 TEST_CASE("contact: head-on collision restitution equals the set e") {
-    // 200 steps per contact. Velocity Verlet feeds the dashpot the half-step velocity, a lag of
-    // dt/2 that perturbs the dissipated energy by O(dt / t_c) relative, here ~0.5% at most for the
-    // strongest damping; 1% is the requirement.
+    // Velocity Verlet feeds the dashpot the half-step velocity v(t - dt/2): the dissipated energy
+    // is off by a relative O(beta dt / t_c) with a coefficient of a few, so the measured e converges
+    // to the set e at first order in dt (and from below: the lagged velocity is the larger one while
+    // the damping grows during compression). With 1000 steps per contact (dt / t_c = 1e-3) that is
+    // a few 1e-3 for the strongest damping (e = 0.1, beta = 0.59); 1% is the requirement.
     for (const double e : {0.1, 0.5, 0.9}) {
         CAPTURE(e);
-        const CollisionResult r = head_on(grain_material(e, 0.5), grain_material(e, 0.5), 1e-3, 1e-3, 0.2, 200);
+        const CollisionResult r = head_on(grain_material(e, 0.5), grain_material(e, 0.5), 1e-3, 1e-3, 0.2, 1000);
         report("head-on restitution e=" + std::to_string(e), r.restitution, e);
         CHECK(relative_error(r.restitution, e) < 0.01);
         // Central forces equal and opposite: momentum is conserved to rounding.
@@ -319,28 +321,30 @@ TEST_CASE("contact: head-on collision restitution equals the set e") {
 }
 
 TEST_CASE("contact: undamped Hertz contact duration") {
-    // e = 1: no damping. Verlet shifts an oscillation period by (omega dt)^2/24 ~ 1e-5 at 200 steps
-    // per contact and the zero crossings are interpolated to O(dt^2); the constant 2.9432 is
-    // rounded at 2e-5. So 0.2% is loose, still 10x tighter than the 2% asked.
+    // e = 1: no damping. At 200 steps per contact Verlet shifts an oscillation period by
+    // (omega dt)^2 / 24 ~ 1e-5, the zero crossings are interpolated to O((dt/t_c)^2) ~ 3e-5, and the
+    // constant 2.9432 of hertz_contact_duration is rounded at ~2e-5 (exact 2.94324). So 5e-4 is a
+    // safe margin, 40x tighter than the 2% asked.
     for (const double v : {0.05, 0.2, 0.8}) {  // t_c ~ v^(-1/5): the speed law is checked too
         CAPTURE(v);
         const CollisionResult r = head_on(grain_material(1.0, 0.5), grain_material(1.0, 0.5), 1e-3, 1e-3, v, 200);
         report("Hertz duration v=" + std::to_string(v), r.duration, r.expected_duration);
-        CHECK(relative_error(r.duration, r.expected_duration) < 2e-3);
-        // Undamped: elastic, the grains swap velocities (equal masses); error as for the duration.
-        CHECK(relative_error(r.restitution, 1.0) < 2e-3);
+        CHECK(relative_error(r.duration, r.expected_duration) < 5e-4);
+        // Undamped Verlet conserves the energy of a completed collision to O((omega dt)^2).
+        report("undamped restitution v=" + std::to_string(v), r.restitution, 1.0);
+        CHECK(relative_error(r.restitution, 1.0) < 5e-4);
     }
 }
 
 TEST_CASE("contact: collision of unequal grains (radii, densities, Young's moduli)") {
     // R 1 mm vs 1.6 mm, densities 2500 vs 7800, Y 10 vs 30 MPa, nu 0.3 vs 0.25: the collision is
-    // governed by m*, R* and Y* alone. Tolerances as for equal grains.
+    // governed by m*, R* and Y* alone. Steps and tolerances as for equal grains.
     Material a = grain_material(0.5, 0.5);
     Material b = grain_material(0.5, 0.5);
     b.density = 7800;
     b.youngs_modulus = 3e7;
     b.poisson_ratio = 0.25;
-    const CollisionResult damped = head_on(a, b, 1e-3, 1.6e-3, 0.2, 200);
+    const CollisionResult damped = head_on(a, b, 1e-3, 1.6e-3, 0.2, 1000);
     report("unequal grains restitution e=0.5", damped.restitution, 0.5);
     CHECK(relative_error(damped.restitution, 0.5) < 0.01);
     CHECK(damped.momentum_drift < 1e-12);
@@ -348,21 +352,21 @@ TEST_CASE("contact: collision of unequal grains (radii, densities, Young's modul
     a.restitution = b.restitution = 1.0;
     const CollisionResult elastic = head_on(a, b, 1e-3, 1.6e-3, 0.2, 200);
     report("unequal grains Hertz duration", elastic.duration, elastic.expected_duration);
-    CHECK(relative_error(elastic.duration, elastic.expected_duration) < 2e-3);
-    CHECK(relative_error(elastic.restitution, 1.0) < 2e-3);
+    CHECK(relative_error(elastic.duration, elastic.expected_duration) < 5e-4);
+    CHECK(relative_error(elastic.restitution, 1.0) < 5e-4);
     CHECK(elastic.momentum_drift < 1e-12);
 }
 
 // ---- 2. Grain-wall ----------------------------------------------------------------------------
 
 TEST_CASE("contact: grain-wall impact restitution and duration") {
-    // Same discretisation argument as the head-on case (200 steps per contact).
-    const CollisionResult r = wall_impact(grain_material(0.5, 0.5), 1e-3, 0.2, 200);
+    // Same discretisation arguments as the head-on cases (1000 / 200 steps per contact).
+    const CollisionResult r = wall_impact(grain_material(0.5, 0.5), 1e-3, 0.2, 1000);
     report("wall restitution e=0.5", r.restitution, 0.5);
     CHECK(relative_error(r.restitution, 0.5) < 0.01);
     const CollisionResult el = wall_impact(grain_material(1.0, 0.5), 1e-3, 0.2, 200);
     report("wall Hertz duration (m* = m, R* = R)", el.duration, el.expected_duration);
-    CHECK(relative_error(el.duration, el.expected_duration) < 2e-3);
+    CHECK(relative_error(el.duration, el.expected_duration) < 5e-4);
 }
 
 // ---- 3. The damping law gives e exactly --------------------------------------------------------
@@ -494,18 +498,31 @@ TEST_CASE("contact: rolling resistance stops a rolling sphere at 5/7 mu_r g") {
     // acting at arm R* = R), opposes the spin. With friction f keeping the no-slip constraint
     // (a = R alpha): m a = f, I alpha = -R f - M  =>  a = -M R / (I + m R^2) = -5/7 mu_r g.
     // Stop time v0 / a, stop distance v0^2 / (2 a).
-    // The rolling spring first has to load to the cap: EPSD over an angle mu_r R F_n / k_r =
-    // d / (2.25 mu_r R) ~ 3e-3 rad, SDS over mu_roll F_n / k_roll ~ 1e-8 m; both are < 1e-3 of the
-    // ~7 mm stop distance, and the damping acts only in that elastic phase. So the stop is within
-    // 1%; the stop time is read at the first zero crossing of the velocity (interpolated).
-    const double mu_r = 0.1, v0 = 0.1;
-    const auto run = [&](RollingModel model, const Material& m) {
+    // Checked three ways: the steady deceleration between 20% and 80% of the stop time (constant
+    // forces on the cap, Verlet exact: 0.5% is a wide margin), and the stop time (first zero of
+    // the velocity, interpolated) and distance, which also carry the start-up transient: the
+    // rolling spring starts unloaded and needs tau = M / (k_r omega0) to reach the cap. During that
+    // ramp (i) the spring torque is below the cap, so the sphere keeps a speed fraction of at most
+    // M tau / (2 I_r omega0) more, and (ii) EPSD adds its dashpot C_r omega0, C_r = 2 eta_r
+    // sqrt(I_r k_r) (I_r = I + m R^2 = 1.4 m R^2), which is *not* capped (Ai et al. 2011 model C, as
+    // in LIGGGHTS): the speed fraction lost is at most C_r M / (k_r I_r omega0). Both shift the stop
+    // time by that fraction and the distance by twice it; the tolerance is that bound plus 0.5%.
+    // SDS caps spring and dashpot together, so it has only (i), with tau = mu F_n / (k_roll v0).
+    const double mu_r = 0.1, v0 = 0.1, r = 1e-3;
+    const double a = 5.0 / 7.0 * mu_r * kG;
+    const auto run = [&](RollingModel model, const Material& m, double startup) {
         GrainOnFloor g = grain_on_floor(m, {0, 0, -kG}, model);
         System& s = g.s;
         s.particles.velocity[0] = {v0, 0, 0};
         s.particles.angular_velocity[0] = {0, v0 / g.radius, 0};  // omega x (-R n) cancels v: no slip
-        const double a = 5.0 / 7.0 * mu_r * kG;
-        double t_prev = s.time, v_prev = v0, x_prev = s.particles.position[0].x;
+        const std::string name = model == RollingModel::epsd ? "EPSD" : "SDS";
+        while (s.time < 0.2 * v0 / a) advance(s);
+        const double t1 = s.time, v1 = s.particles.velocity[0].x;
+        while (s.time < 0.8 * v0 / a) advance(s);
+        const double decel = -(s.particles.velocity[0].x - v1) / (s.time - t1);
+        report(name + " steady deceleration", decel, a);
+        CHECK(relative_error(decel, a) < 5e-3);
+        double t_prev = s.time, v_prev = s.particles.velocity[0].x, x_prev = s.particles.position[0].x;
         while (s.time < 2 * v0 / a) {
             advance(s);
             const double v = s.particles.velocity[0].x;
@@ -513,11 +530,10 @@ TEST_CASE("contact: rolling resistance stops a rolling sphere at 5/7 mu_r g") {
                 const double f = v_prev / (v_prev - v);
                 const double t_stop = t_prev + f * (s.time - t_prev);
                 const double x_stop = x_prev + f * (s.particles.position[0].x - x_prev);
-                const std::string name = model == RollingModel::epsd ? "EPSD" : "SDS";
                 report(name + " stop time", t_stop, v0 / a);
                 report(name + " stop distance", x_stop, v0 * v0 / (2 * a));
-                CHECK(relative_error(t_stop, v0 / a) < 0.01);
-                CHECK(relative_error(x_stop, v0 * v0 / (2 * a)) < 0.01);
+                CHECK(relative_error(t_stop, v0 / a) < startup + 5e-3);
+                CHECK(relative_error(x_stop, v0 * v0 / (2 * a)) < 2 * startup + 5e-3);
                 return;
             }
             t_prev = s.time;
@@ -526,11 +542,19 @@ TEST_CASE("contact: rolling resistance stops a rolling sphere at 5/7 mu_r g") {
         }
         FAIL("the sphere did not stop within twice the expected time");
     };
+    const double mass = sphere_mass(2500, r), fn = mass * kG, omega0 = v0 / r;
+    const double inertia_r = 1.4 * mass * r * r;
     SUBCASE("EPSD") {
         Material m = grain_material(0.5, 0.5);
         m.rolling_friction = mu_r;
         m.rolling_damping = 0.3;
-        run(RollingModel::epsd, m);
+        const double ystar = effective_youngs(m, m);
+        const double d = std::pow(fn / (4.0 / 3.0 * ystar * std::sqrt(r)), 2.0 / 3.0);
+        const double kr = 2.25 * (4.0 / 3.0 * ystar * std::sqrt(r * d)) * mu_r * mu_r * r * r;
+        const double cap = mu_r * r * fn, tau = cap / (kr * omega0);
+        const double c_r = m.rolling_damping * 2 * std::sqrt(inertia_r * kr);
+        const double startup = cap * tau / (2 * inertia_r * omega0) + c_r * cap / (kr * inertia_r * omega0);
+        run(RollingModel::epsd, m, startup);
     }
     SUBCASE("SDS") {
         Material m = grain_material(0.5, 0.5);
@@ -538,8 +562,9 @@ TEST_CASE("contact: rolling resistance stops a rolling sphere at 5/7 mu_r g") {
         m.rolling_stiffness = 100;  // N/m
         // Damping ratio 0.5 of the rolling spring against the sphere's rotation:
         // gamma R^2 = 2 * 0.5 * sqrt(k_roll R^2 I), I = 2/5 m R^2  =>  gamma = sqrt(0.4 k_roll m).
-        m.rolling_viscous = std::sqrt(0.4 * m.rolling_stiffness * sphere_mass(m.density, 1e-3));
-        run(RollingModel::sds, m);
+        m.rolling_viscous = std::sqrt(0.4 * m.rolling_stiffness * mass);
+        const double tau = mu_r * fn / (m.rolling_stiffness * v0);
+        run(RollingModel::sds, m, mu_r * r * fn * tau / (2 * inertia_r * omega0));
     }
 }
 

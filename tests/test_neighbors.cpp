@@ -98,10 +98,10 @@ Mismatch compare_with_brute_force(const NeighborList& list, const Particles& p, 
 }
 
 // The size distribution of the tests: classes from 1 to 30 um in diameter, number-weighted so
-// most grains are fine and a handful are 30 times larger.
+// most grains are fine and a handful (about 6 in these boxes) are 30 times larger.
 SizeDistribution ratio_30_table() {
     return SizeDistribution::table({1e-6, 2e-6, 4e-6, 8e-6, 15e-6, 30e-6},
-                                   {0.7375, 0.2, 0.05, 0.01, 0.002, 0.0005},
+                                   {0.7, 0.2, 0.07, 0.02, 0.007, 0.003},
                                    SizeDistribution::FrequencyBasis::number);
 }
 
@@ -138,44 +138,70 @@ double size_ratio(const Particles& p) {
 
 // min_ratio: the table distribution draws both its 1 and 30 um classes; the truncated lognormal
 // spreads over [1, 30] um without reaching the ends exactly.
+// Checked with the scene's default skin (0.1 mean diameters) and with a skin of 1.5 mean
+// diameters, which lists many pairs that are not in contact and reaches further into the grid.
 void check_list_matches_brute_force(Packed& s, const std::string& label, double min_ratio = 30 * (1 - 1e-9)) {
     CAPTURE(label);
     MESSAGE(label << ": size ratio " << size_ratio(s.particles));
     REQUIRE(size_ratio(s.particles) >= min_ratio);
-    NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
-    list.build(s.particles, s.domain, 1);
-    const Mismatch m = compare_with_brute_force(list, s.particles, s.domain);
-    MESSAGE(label << ": " << s.particles.size() << " grains, " << list.pair_count() << " listed pairs, "
-                  << m.required << " required by brute force");
-    CHECK(m.required > s.particles.size());  // a dense packing: more pairs than grains
-    CHECK(m.missing == 0);
-    CHECK(m.extra == 0);
-    CHECK(m.wrong_image == 0);
-    CHECK(list.pair_count() == m.required);
+    for (const double skin : {s.skin, 15 * s.skin}) {
+        CAPTURE(skin);
+        NeighborList list(NeighborList::Settings{skin, 1.0, true});
+        list.build(s.particles, s.domain, 1);
+        const Mismatch m = compare_with_brute_force(list, s.particles, s.domain);
+        MESSAGE(label << ", skin " << skin << " m: " << s.particles.size() << " grains, " << list.pair_count()
+                      << " listed pairs, " << m.required << " required by brute force");
+        CHECK(m.required > 20);
+        CHECK(m.missing == 0);
+        CHECK(m.extra == 0);
+        CHECK(m.wrong_image == 0);
+        CHECK(list.pair_count() == m.required);
+    }
 }
 
-// Moves every grain by a random vector shorter than skin / 2 (no rebuild is due), then checks
-// that every pair now closer than its cutoff, touching pairs in particular, is still listed
-// with the right image.
+// Moves every grain by less than skin / 2 (no rebuild is due), then checks that every pair now
+// touching is still listed, with the right image. Random moves in random directions; then, as a
+// harsher case from the same start, every grain moved 0.4999 skin straight at its nearest
+// neighbour, which closes most gaps shorter than a skin.
 void check_list_survives_small_moves(Packed& s, std::uint64_t seed, const std::string& label) {
     CAPTURE(label);
-    NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
-    list.build(s.particles, s.domain, 1);
-    Rng rng(seed);
-    for (Vec3& x : s.particles.position) {
-        Vec3 dir{rng.normal(), rng.normal(), rng.normal()};
-        dir = dir / norm(dir);
-        x += dir * (0.4999 * s.skin * std::sqrt(rng.uniform()));
+    const std::vector<Vec3> start = s.particles.position;
+    for (const bool towards_nearest : {false, true}) {
+        CAPTURE(towards_nearest);
+        s.particles.position = start;
+        NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
+        list.build(s.particles, s.domain, 1);
+        const std::vector<Vec3> at_build = s.particles.position;
+        const std::size_t n = s.particles.size();
+        std::vector<Vec3> step(n);
+        Rng rng(seed);
+        for (std::size_t i = 0; i < n; ++i) {
+            Vec3 dir{rng.normal(), rng.normal(), rng.normal()};
+            double length = 0.4999 * s.skin * std::sqrt(rng.uniform());
+            if (towards_nearest) {
+                double best_gap = INFINITY;
+                for (std::size_t j = 0; j < n; ++j) {
+                    if (j == i) continue;
+                    const Vec3 sep = s.domain.separation(at_build[i], at_build[j]);
+                    const double gap = norm(sep) - s.particles.radius[i] - s.particles.radius[j];
+                    if (gap < best_gap) { best_gap = gap; dir = sep; }
+                }
+                length = 0.4999 * s.skin;
+            }
+            step[i] = dir * (length / norm(dir));
+        }
+        for (std::size_t i = 0; i < n; ++i) s.particles.position[i] += step[i];
+        REQUIRE_FALSE(list.needs_rebuild(s.particles, 1));
+        const Mismatch touching = compare_with_brute_force(list, s.particles, s.domain, true);
+        MESSAGE(label << std::string(towards_nearest ? ", moved towards nearest" : ", moved randomly") << ": "
+                      << touching.required << " touching pairs after the moves");
+        CHECK(touching.required > 10);
+        CHECK(touching.missing == 0);
+        CHECK(touching.wrong_image == 0);
+        // A move past skin / 2 is noticed.
+        s.particles.position[0] = at_build[0] + Vec3{0.5001 * s.skin, 0, 0};
+        CHECK(list.needs_rebuild(s.particles, 1));
     }
-    REQUIRE_FALSE(list.needs_rebuild(s.particles, 1));
-    const Mismatch touching = compare_with_brute_force(list, s.particles, s.domain, true);
-    MESSAGE(label << ": " << touching.required << " touching pairs after the moves");
-    CHECK(touching.required > s.particles.size() / 2);
-    CHECK(touching.missing == 0);
-    CHECK(touching.wrong_image == 0);
-    // A move past skin / 2 is noticed.
-    s.particles.position[0].x += 0.5001 * s.skin;
-    CHECK(list.needs_rebuild(s.particles, 1));
 }
 
 void check_threads_identical(Packed& s, const std::string& label) {
@@ -204,21 +230,21 @@ TEST_SUITE("unit") {
 TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on all axes") {
     Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 11);
     check_list_matches_brute_force(s, "table, periodic xyz");
-    Packed t = pack(ratio_30_lognormal(), {true, true, true}, 66e-6, 0.4, 12);
+    Packed t = pack(ratio_30_lognormal(), {true, true, true}, 80e-6, 0.4, 12);
     check_list_matches_brute_force(t, "lognormal, periodic xyz", 10);
 }
 
 TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on x and y only") {
     Packed s = pack(ratio_30_table(), {true, true, false}, 70e-6, 0.35, 21);
     check_list_matches_brute_force(s, "table, periodic xy");
-    Packed t = pack(ratio_30_lognormal(), {true, true, false}, 66e-6, 0.4, 22);
+    Packed t = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 22);
     check_list_matches_brute_force(t, "lognormal, periodic xy", 10);
 }
 
 TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, no periodic axis") {
     Packed s = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 31);
     check_list_matches_brute_force(s, "table, closed box");
-    Packed t = pack(ratio_30_lognormal(), {false, false, false}, 66e-6, 0.4, 32);
+    Packed t = pack(ratio_30_lognormal(), {false, false, false}, 80e-6, 0.4, 32);
     check_list_matches_brute_force(t, "lognormal, closed box", 10);
 }
 
@@ -239,18 +265,18 @@ TEST_CASE("neighbour list: grains outside a closed box and wrapped across period
 }
 
 TEST_CASE("neighbour list: every touching pair stays listed after moves shorter than skin / 2") {
-    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 51);
+    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.5, 51);
     check_list_survives_small_moves(a, 52, "periodic xyz");
-    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 66e-6, 0.4, 53);
+    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.5, 53);
     check_list_survives_small_moves(b, 54, "periodic xy");
-    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 55);
+    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.5, 55);
     check_list_survives_small_moves(c, 56, "closed box");
 }
 
 TEST_CASE("neighbour list: the same list for 1 and 2 threads") {
     Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 61);
     check_threads_identical(a, "periodic xyz");
-    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 66e-6, 0.4, 62);
+    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 62);
     check_threads_identical(b, "periodic xy");
     Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 63);
     check_threads_identical(c, "closed box");

@@ -12,35 +12,11 @@ namespace {
 constexpr std::uint64_t kMagic = 0x314b434d414a524dull;  // "MRJAMCK1"
 
 void put_particles(std::ostream& out, const Particles& p) {
-    binary::put_vector(out, p.position);
-    binary::put_vector(out, p.velocity);
-    binary::put_vector(out, p.angular_velocity);
-    binary::put_vector(out, p.force);
-    binary::put_vector(out, p.torque);
-    binary::put_vector(out, p.radius);
-    binary::put_vector(out, p.mass);
-    binary::put_vector(out, p.inertia);
-    binary::put_vector(out, p.dipole_moment);
-    binary::put_vector(out, p.material);
-    binary::put_vector(out, p.groups);
-    binary::put_vector(out, p.id);
-    binary::put_vector(out, p.raft);
+    p.for_each_array([&](const auto& a) { binary::put_vector(out, a); });
 }
 
 void get_particles(std::istream& in, Particles& p) {
-    binary::get_vector(in, p.position);
-    binary::get_vector(in, p.velocity);
-    binary::get_vector(in, p.angular_velocity);
-    binary::get_vector(in, p.force);
-    binary::get_vector(in, p.torque);
-    binary::get_vector(in, p.radius);
-    binary::get_vector(in, p.mass);
-    binary::get_vector(in, p.inertia);
-    binary::get_vector(in, p.dipole_moment);
-    binary::get_vector(in, p.material);
-    binary::get_vector(in, p.groups);
-    binary::get_vector(in, p.id);
-    binary::get_vector(in, p.raft);
+    p.for_each_array([&](auto& a) { binary::get_vector(in, a); });
 }
 
 std::ifstream open_and_check(const std::string& path) {

@@ -60,10 +60,16 @@ CellGrid bin(const Particles& p, const Domain& domain, double target_size) {
 }
 
 // Cells along one axis within `reach` cells of c, each once, with the periodic wrap recorded.
+// Sized at run time: a grain 40 times the mean spans more than a hundred cells.
 struct AxisRange {
-    int cell[64];
-    int wrap[64];  // -1, 0, +1 periods added to the partner's coordinate
+    std::vector<int> cell;
+    std::vector<int> wrap;  // -1, 0, +1 periods added to the partner's coordinate; 2 = minimum image
     int n = 0;
+    void push(int c, int w) {
+        if (n == static_cast<int>(cell.size())) { cell.push_back(c); wrap.push_back(w); }
+        else { cell[n] = c; wrap[n] = w; }
+        ++n;
+    }
 };
 
 void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
@@ -71,10 +77,10 @@ void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
     if (periodic && 2 * reach + 1 >= count) {
         // The stencil covers the whole period: visit every cell once; the image is chosen per
         // pair by minimum image below.
-        for (int k = 0; k < count && r.n < 64; ++k) { r.cell[r.n] = k; r.wrap[r.n] = 2; ++r.n; }
+        for (int k = 0; k < count; ++k) r.push(k, 2);
         return;
     }
-    for (int d = -reach; d <= reach && r.n < 64; ++d) {
+    for (int d = -reach; d <= reach; ++d) {
         int k = c + d, w = 0;
         if (periodic) {
             if (k < 0) { k += count; w = -1; }
@@ -82,9 +88,7 @@ void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
         } else if (k < 0 || k >= count) {
             continue;
         }
-        r.cell[r.n] = k;
-        r.wrap[r.n] = w;
-        ++r.n;
+        r.push(k, w);
     }
 }
 
