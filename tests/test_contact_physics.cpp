@@ -57,6 +57,12 @@ double effective_youngs(const Material& a, const Material& b) {
                   (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
 }
 
+// Mindlin's G*: 1/G* = 2 (2 - nu_a)(1 + nu_a) / Y_a + (same for b).
+double effective_shear(const Material& a, const Material& b) {
+    return 1.0 / (2 * (2 - a.poisson_ratio) * (1 + a.poisson_ratio) / a.youngs_modulus +
+                  2 * (2 - b.poisson_ratio) * (1 + b.poisson_ratio) / b.youngs_modulus);
+}
+
 double sphere_mass(double density, double r) { return density * 4.0 / 3.0 * kPi * r * r * r; }
 
 // A closed box of half width `half` around the origin, no gravity, contact on, one thread.
@@ -246,10 +252,11 @@ GrainOnFloor grain_on_floor(const Material& m, const Vec3& g, RollingModel rolli
     // EPSD rolling spring against the rotation alone (k_r / I), SDS rolling spring (k_roll R^2 / I).
     const double root = std::sqrt(r * d_eq);
     const double sn = 2 * ystar * root;
-    const double kt = 8 * (m.youngs_modulus / (2 * (1 + m.poisson_ratio)) / (2 * (2 - m.poisson_ratio))) * root;
+    const double kt = 8 * effective_shear(m, m) * root;
     const double inertia = 0.4 * out.mass * r * r;
     const double kr = 2.25 * (4.0 / 3.0 * ystar * root) * m.rolling_friction * m.rolling_friction * r * r;
-    const double w2 = std::max({sn / out.mass, 3.5 * kt / out.mass, kr / inertia, m.rolling_stiffness * r * r / inertia});
+    const double w2 =
+        std::max({sn / out.mass, 3.5 * kt / out.mass, kr / inertia, m.rolling_stiffness * r * r / inertia});
     start(s, 2 * kPi / std::sqrt(w2) / 50, 0.5 * r);
     return out;
 }
@@ -282,9 +289,11 @@ struct Settled {
 };
 
 // Runs a cohesive scene from a tiny initial overlap until its contact has come to rest.
-// Damping time: with e = 0.1 (beta = 0.59) the linearised contact at equilibrium has a damping
-// ratio of at least sqrt(5/6) beta = 0.54, so each period of sqrt(m*/S_n) shrinks a disturbance by
-// far more than e; 60 periods leave nothing measurable in double precision.
+// Linearised at the balance, the contact has stiffness S_n (DMT: constant attraction) or S_n / 3
+// (SJKR: the cohesion grows as d while Hertz grows as d^1.5) against the dashpot
+// 2 sqrt(5/6) beta sqrt(S_n m*); with e = 0.1 (beta = 0.59) the damping ratio is 0.54 (DMT) or
+// 0.93 (SJKR), so a disturbance shrinks by e^-3 or more per period and 60 periods leave nothing
+// measurable in double precision.
 Settled settle(System& s, double m_star, double sn_at_eq, const std::function<double()>& overlap) {
     const double period = 2 * kPi * std::sqrt(m_star / sn_at_eq);
     // SJKR softens the contact (to S_n/3 at the balance), slowing it by sqrt(3): 100 steps of the
@@ -396,38 +405,46 @@ TEST_CASE("contact: sphere on an incline rolls without slip or slides (Coulomb)"
     // start-up transient decays with the tangential damping ratio ~0.37 at omega_t ~ 1e4 rad/s,
     // i.e. in well under 1 ms. So 0.5% is a wide margin for what remains.
     const double mu = 0.2;
-    SUBCASE("tan(theta) = 0.7 * 3.5 mu: rolls without slip") {
-        const double theta = std::atan(0.7 * 3.5 * mu);
-        GrainOnFloor g = grain_on_floor(grain_material(0.5, mu), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
-                                        RollingModel::none);
-        System& s = g.s;
-        while (s.time < 0.05) advance(s);
-        const double t1 = s.time, v1 = s.particles.velocity[0].x;
-        while (s.time < 0.15) advance(s);
-        const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
-        report("rolling on incline, acceleration", a, 5.0 / 7.0 * kG * std::sin(theta));
-        CHECK(relative_error(a, 5.0 / 7.0 * kG * std::sin(theta)) < 5e-3);
-        // Contact point at rest: steady friction means a constant spring, i.e. zero slip rate.
-        const double slip = s.particles.velocity[0].x - g.radius * s.particles.angular_velocity[0].y;
-        CHECK(std::fabs(slip) < 1e-4 * s.particles.velocity[0].x);
+    // Each regime at a comfortable and at a near-threshold angle (near it the start-up spring
+    // overshoot can slip the contact briefly; the steady state is still the one predicted).
+    SUBCASE("tan(theta) < 3.5 mu: rolls without slip") {
+        for (const double ratio : {0.7, 0.95}) {
+            CAPTURE(ratio);
+            const double theta = std::atan(ratio * 3.5 * mu);
+            GrainOnFloor g = grain_on_floor(grain_material(0.5, mu), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
+                                            RollingModel::none);
+            System& s = g.s;
+            while (s.time < 0.05) advance(s);
+            const double t1 = s.time, v1 = s.particles.velocity[0].x;
+            while (s.time < 0.15) advance(s);
+            const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
+            report("rolling on incline, acceleration", a, 5.0 / 7.0 * kG * std::sin(theta));
+            CHECK(relative_error(a, 5.0 / 7.0 * kG * std::sin(theta)) < 5e-3);
+            // Contact point at rest: steady friction means a constant spring, i.e. zero slip rate.
+            const double slip = s.particles.velocity[0].x - g.radius * s.particles.angular_velocity[0].y;
+            CHECK(std::fabs(slip) < 1e-4 * s.particles.velocity[0].x);
+        }
     }
-    SUBCASE("tan(theta) = 1.5 * 3.5 mu: slides") {
-        const double theta = std::atan(1.5 * 3.5 * mu);
-        GrainOnFloor g = grain_on_floor(grain_material(0.5, mu), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
-                                        RollingModel::none);
-        System& s = g.s;
-        while (s.time < 0.05) advance(s);
-        const double t1 = s.time, v1 = s.particles.velocity[0].x, w1 = s.particles.angular_velocity[0].y;
-        while (s.time < 0.15) advance(s);
-        const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
-        const double alpha = (s.particles.angular_velocity[0].y - w1) / (s.time - t1);
-        const double a_expected = kG * (std::sin(theta) - mu * std::cos(theta));
-        const double alpha_expected = 2.5 * mu * kG * std::cos(theta) / g.radius;
-        report("sliding on incline, acceleration", a, a_expected);
-        report("sliding on incline, angular acceleration", alpha, alpha_expected);
-        CHECK(relative_error(a, a_expected) < 5e-3);
-        CHECK(relative_error(alpha, alpha_expected) < 5e-3);
-        CHECK(s.particles.velocity[0].x - g.radius * s.particles.angular_velocity[0].y > 0);  // still slipping
+    SUBCASE("tan(theta) > 3.5 mu: slides") {
+        for (const double ratio : {1.05, 1.5}) {
+            CAPTURE(ratio);
+            const double theta = std::atan(ratio * 3.5 * mu);
+            GrainOnFloor g = grain_on_floor(grain_material(0.5, mu), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
+                                            RollingModel::none);
+            System& s = g.s;
+            while (s.time < 0.05) advance(s);
+            const double t1 = s.time, v1 = s.particles.velocity[0].x, w1 = s.particles.angular_velocity[0].y;
+            while (s.time < 0.15) advance(s);
+            const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
+            const double alpha = (s.particles.angular_velocity[0].y - w1) / (s.time - t1);
+            const double a_expected = kG * (std::sin(theta) - mu * std::cos(theta));
+            const double alpha_expected = 2.5 * mu * kG * std::cos(theta) / g.radius;
+            report("sliding on incline, acceleration", a, a_expected);
+            report("sliding on incline, angular acceleration", alpha, alpha_expected);
+            CHECK(relative_error(a, a_expected) < 5e-3);
+            CHECK(relative_error(alpha, alpha_expected) < 5e-3);
+            CHECK(s.particles.velocity[0].x - g.radius * s.particles.angular_velocity[0].y > 0);  // still slipping
+        }
     }
 }
 
@@ -454,12 +471,13 @@ TEST_CASE("contact: EPSD rolling resistance holds a sphere on an incline below t
         const double f = g.mass * kG * std::sin(theta);
         const double kn = 4.0 / 3.0 * ystar * std::sqrt(r * d);
         const double kr = 2.25 * kn * mu_r * mu_r * r * r;
-        const double kt = 8 * (m.youngs_modulus / (2 * (1 + m.poisson_ratio)) / (2 * (2 - m.poisson_ratio))) * std::sqrt(r * d);
+        const double kt = 8 * effective_shear(m, m) * std::sqrt(r * d);
         const double x_expected = r * (r * f) / kr + f / kt;
         report("EPSD incline below threshold, creep distance", s.particles.position[0].x, x_expected);
         // Rolling damping ratio 0.3 of a ~500 rad/s spring: after 0.3 s the motion has decayed by
-        // e^-45. The spring stiffnesses use the overlap, held within 1e-6 relative by the normal
-        // balance, so 1% covers the rest (the small normal-force change as the grain tilts).
+        // e^-45. The overlap is constant (started at the static one), so the incremental springs hold
+        // exactly k * deflection, and the stiffnesses here use the overlap read back: what is left
+        // is rounding and the second-order geometry of a turned sphere. 1% is generous.
         CHECK(std::fabs(s.particles.velocity[0].x) < 1e-9);
         CHECK(relative_error(s.particles.position[0].x, x_expected) < 0.01);
         CHECK(s.particles.position[0].x < 0.01 * r);  // stands: a few microns of elastic give
@@ -475,18 +493,21 @@ TEST_CASE("contact: EPSD rolling resistance holds a sphere on an incline below t
         CHECK(std::fabs(s.particles.velocity[0].x) < 1e-9);
         CHECK(s.particles.position[0].x < 0.05 * g.radius);
     }
-    SUBCASE("tan(theta) = 1.5 mu_r: rolls at 5/7 g (sin - mu_r cos)") {
-        const double theta = std::atan(1.5 * mu_r);
-        GrainOnFloor g = grain_on_floor(m, {kG * std::sin(theta), 0, -kG * std::cos(theta)}, RollingModel::epsd);
-        System& s = g.s;
-        while (s.time < 0.05) advance(s);
-        const double t1 = s.time, v1 = s.particles.velocity[0].x;
-        while (s.time < 0.15) advance(s);
-        const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
-        const double a_expected = 5.0 / 7.0 * kG * (std::sin(theta) - mu_r * std::cos(theta));
-        report("EPSD incline above threshold, acceleration", a, a_expected);
-        // On the cap the torque is constant; steady as in the Coulomb test, so 0.5%.
-        CHECK(relative_error(a, a_expected) < 5e-3);
+    SUBCASE("tan(theta) > mu_r: rolls at 5/7 g (sin - mu_r cos)") {
+        for (const double ratio : {1.1, 1.5}) {
+            CAPTURE(ratio);
+            const double theta = std::atan(ratio * mu_r);
+            GrainOnFloor g = grain_on_floor(m, {kG * std::sin(theta), 0, -kG * std::cos(theta)}, RollingModel::epsd);
+            System& s = g.s;
+            while (s.time < 0.05) advance(s);
+            const double t1 = s.time, v1 = s.particles.velocity[0].x;
+            while (s.time < 0.15) advance(s);
+            const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
+            const double a_expected = 5.0 / 7.0 * kG * (std::sin(theta) - mu_r * std::cos(theta));
+            report("EPSD incline above threshold, acceleration", a, a_expected);
+            // On the cap the torque is constant; steady as in the Coulomb test, so 0.5%.
+            CHECK(relative_error(a, a_expected) < 5e-3);
+        }
     }
 }
 
@@ -530,6 +551,7 @@ TEST_CASE("contact: rolling resistance stops a rolling sphere at 5/7 mu_r g") {
                 const double f = v_prev / (v_prev - v);
                 const double t_stop = t_prev + f * (s.time - t_prev);
                 const double x_stop = x_prev + f * (s.particles.position[0].x - x_prev);
+                report(name + " start-up bound on the speed loss", startup, 0);
                 report(name + " stop time", t_stop, v0 / a);
                 report(name + " stop distance", x_stop, v0 * v0 / (2 * a));
                 CHECK(relative_error(t_stop, v0 / a) < startup + 5e-3);
@@ -585,7 +607,8 @@ TEST_CASE("contact: cohesive contacts settle where Hertz balances cohesion") {
         const double r_star = r / 2, m_star = mass / 2, kc = m.cohesion_energy_density;
         const double d_eq = bisect(
             [&](double d) {
-                return 4.0 / 3.0 * ystar * std::sqrt(r_star) * std::pow(d, 1.5) - kc * intersection_area(r, r, 2 * r - d);
+                return 4.0 / 3.0 * ystar * std::sqrt(r_star) * std::pow(d, 1.5) -
+                       kc * intersection_area(r, r, 2 * r - d);
             },
             1e-12 * r, 0.1 * r);
         System s = empty_system({m}, 0.02);
@@ -629,7 +652,8 @@ TEST_CASE("contact: cohesive contacts settle where Hertz balances cohesion") {
         s.physics.cohesion = CohesionModel::sjkr;
         s.walls.push_back(floor_wall(0));
         s.particles.add({0, 0, r - 1e-3 * d_eq}, r, m.density, 0);
-        const Settled st = settle(s, mass, 2 * ystar * std::sqrt(r * d_eq), [&] { return r - s.particles.position[0].z; });
+        const Settled st =
+            settle(s, mass, 2 * ystar * std::sqrt(r * d_eq), [&] { return r - s.particles.position[0].z; });
         report("SJKR wall settled overlap", st.overlap, d_eq);
         CHECK(relative_error(st.overlap, d_eq) < 1e-6);
         CHECK(st.speed < 1e-12);
@@ -641,7 +665,8 @@ TEST_CASE("contact: cohesive contacts settle where Hertz balances cohesion") {
         s.physics.cohesion = CohesionModel::dmt;
         s.walls.push_back(floor_wall(0));
         s.particles.add({0, 0, r - 1e-3 * d_eq}, r, m.density, 0);
-        const Settled st = settle(s, mass, 2 * ystar * std::sqrt(r * d_eq), [&] { return r - s.particles.position[0].z; });
+        const Settled st =
+            settle(s, mass, 2 * ystar * std::sqrt(r * d_eq), [&] { return r - s.particles.position[0].z; });
         report("DMT wall settled overlap", st.overlap, d_eq);
         CHECK(relative_error(st.overlap, d_eq) < 1e-6);
         CHECK(st.speed < 1e-12);

@@ -1,5 +1,6 @@
 #include "scene/scene_node.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -37,8 +38,45 @@ bool SceneNode::has(const std::string& key) const {
     return in_->contains(key);
 }
 
+namespace {
+
+// Levenshtein distance, for "did you mean" hints on short keys.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// Close enough to be a misspelling: one edit for short keys, two for longer ones.
+bool looks_like(const std::string& typed, const std::string& known) {
+    if (typed == known) return false;
+    const std::size_t limit = known.size() <= 4 ? 1 : 2;
+    return edit_distance(typed, known) <= limit;
+}
+
+}  // namespace
+
 void SceneNode::fail(const std::string& key, const std::string& message) const {
-    throw SceneError(path_of(key), message);
+    std::string text = message;
+    // A required key that is absent is most often misspelt: name the key that was given instead,
+    // with its path, so the error points at the line to fix.
+    if (!in_->contains(key)) {
+        for (auto it = in_->begin(); it != in_->end(); ++it) {
+            if (seen_.count(it.key()) || !looks_like(it.key(), key)) continue;
+            text += "; the scene has " + path_of(it.key()) + ", not a known key here: a misspelling of \"" + key + "\"?";
+            break;
+        }
+    }
+    throw SceneError(path_of(key), text);
 }
 
 const json& SceneNode::at(const std::string& key) {
@@ -245,9 +283,12 @@ std::vector<SceneNode> SceneNode::objects(const std::string& key, bool required)
 void SceneNode::finish() const {
     for (auto it = in_->begin(); it != in_->end(); ++it) {
         if (seen_.count(it.key())) continue;
-        std::string known;
-        for (const auto& k : seen_) known += (known.empty() ? "" : ", ") + k;
-        throw SceneError(path_of(it.key()), "unknown key" +
+        std::string known, guess;
+        for (const auto& k : seen_) {
+            known += (known.empty() ? "" : ", ") + k;
+            if (guess.empty() && looks_like(it.key(), k)) guess = k;
+        }
+        throw SceneError(path_of(it.key()), "unknown key" + (guess.empty() ? std::string() : " (did you mean \"" + guess + "\"?)") +
                                                 (known.empty() ? std::string() : "; known keys here: " + known) +
                                                 " (see docs/scene.md)");
     }

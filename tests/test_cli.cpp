@@ -1,0 +1,427 @@
+// The mrjam executable end to end: `--version`, a small scene run and its report, refusals of bad
+// scenes (exit code 2 and the JSON path of the bad field on stderr), a missing file, invalid
+// JSON, unit strings, and checkpoint/resume continuing a two-stage run exactly.
+//
+// Scenes are written from this file into a fresh temporary directory; the binary is the one
+// CMake built next to the tests (MRJAM_BINARY).
+#include <doctest/doctest.h>
+
+#include <sys/wait.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<int> counter{0};
+        std::random_device rd;
+        path = fs::temp_directory_path() / ("mrjam_cli_" + std::to_string(rd()) + "_" + std::to_string(counter++));
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+struct Result {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+// Runs `mrjam ARGS` with stdout and stderr captured in files of `dir`.
+Result mrjam(const TempDir& dir, const std::string& args) {
+    static std::atomic<int> counter{0};
+    const int k = counter++;
+    const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
+    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err);
+    const int status = std::system(command.c_str());
+    Result r;
+    REQUIRE(status != -1);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+// Writes `scene` and runs it; the report goes next to it.
+Result run_scene(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --quiet " + extra);
+}
+
+json read_report(const TempDir& dir, const std::string& name) {
+    const std::string text = slurp(dir.file(name + "_report.json"));
+    REQUIRE_FALSE(text.empty());
+    return json::parse(text);
+}
+
+// A small valid scene: 1 mm glass beads at volume fraction 0.3 in a periodic 6 mm box, 100 steps.
+json small_scene() {
+    return json::parse(R"({
+      "description": "cli test: small periodic gas",
+      "seed": 17,
+      "domain": {"lo": [0, 0, 0], "hi": ["6 mm", "6 mm", "6 mm"], "periodic": "xyz"},
+      "materials": [{"name": "glass", "density": "2500 kg/m3", "youngs_modulus": "10 MPa",
+                     "restitution": 0.6, "friction": 0.4}],
+      "grains": [{"material": "glass", "size": {"distribution": "single", "diameter": "1 mm"},
+                  "placement": {"method": "random", "volume_fraction": 0.3},
+                  "random_velocity": "0.1 m/s"}],
+      "run": {"steps": 100}
+    })");
+}
+
+// Two stages in a column with walls: settle under gravity, then the lid moves down and the fluid
+// starts to flow. Checkpoint every `every` steps.
+json two_stage_scene(long every, const std::string& checkpoint_path, const std::string& output_dir) {
+    json scene = json::parse(R"({
+      "description": "cli test: two stages with a checkpoint",
+      "seed": 23,
+      "domain": {"lo": [0, 0, 0], "hi": ["6 mm", "6 mm", "12 mm"], "periodic": "xy"},
+      "materials": [{"name": "glass", "density": "2500 kg/m3", "youngs_modulus": "10 MPa",
+                     "restitution": 0.5, "friction": 0.5, "rolling_friction": 0.1, "rolling_damping": 0.3}],
+      "contact": {"rolling": "epsd"},
+      "fluid": {"viscosity": "1 mPa s", "density": "1000 kg/m3"},
+      "gravity": [0, 0, "-9.81 m/s2"],
+      "walls": [{"name": "floor", "type": "plane", "point": [0, 0, 0], "normal": [0, 0, 1]},
+                {"name": "lid", "type": "plane", "point": [0, 0, "12 mm"], "normal": [0, 0, -1]}],
+      "grains": [{"material": "glass",
+                  "size": {"distribution": "lognormal", "median_diameter": "0.8 mm", "sigma_ln": 0.15},
+                  "placement": {"method": "random", "volume_fraction": 0.3}, "random_velocity": "0.05 m/s"}],
+      "run": {"characteristic_speed": "0.5 m/s"},
+      "stages": [
+        {"name": "settle", "steps": 150},
+        {"name": "press", "steps": 100,
+         "wall_velocities": [{"name": "lid", "velocity": [0, 0, "-0.2 m/s"]}],
+         "flow": {"type": "uniform", "velocity": ["5 mm/s", 0, 0]}}
+      ]
+    })");
+    scene["output"] = {{"directory", output_dir}, {"checkpoint", {{"every_steps", every}, {"path", checkpoint_path}}}};
+    return scene;
+}
+
+// Expects refusal: exit code 2 and stderr naming `path`.
+Result expect_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
+    CAPTURE(label);
+    const Result r = run_scene(dir, label, scene);
+    CHECK(r.exit_code == 2);
+    CAPTURE(r.err);
+    CHECK(r.err.find(path) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file(label + "_report.json")));  // refused before any work
+    return r;
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("cli: --version exits 0 and names the version") {
+    TempDir dir;
+    const Result r = mrjam(dir, "--version");
+    CHECK(r.exit_code == 0);
+    CHECK(r.out.find("mrjam") != std::string::npos);
+    CHECK(r.out.find(MRJAM_VERSION) != std::string::npos);
+}
+
+TEST_CASE("cli: no subcommand, or an unknown option, is a command-line error") {
+    TempDir dir;
+    CHECK(mrjam(dir, "").exit_code == 2);
+    CHECK(mrjam(dir, "run --no-such-option x.json").exit_code == 2);
+    CHECK(mrjam(dir, "run").exit_code == 2);  // neither a scene nor --resume
+}
+
+TEST_CASE("cli: a small scene runs and reports its inputs with defaults, seed and timing") {
+    TempDir dir;
+    const Result r = run_scene(dir, "small", small_scene());
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json rep = read_report(dir, "small");
+    CHECK(rep["status"] == "complete");
+    CHECK(rep["partial"] == false);
+    CHECK(rep["seed"] == 17);
+    CHECK(rep["mode"] == "run");
+    REQUIRE(rep["wall_time_s"].is_number());
+    CHECK(rep["wall_time_s"].get<double>() >= 0);
+    CHECK(rep["results"]["steps"] == 100);
+    CHECK(rep["results"]["grains"].get<int>() > 50);
+    const json& in = rep["inputs"];
+    // Defaults are filled in.
+    CHECK(in["run"]["timestep_safety"] == 0.1);
+    CHECK(in["run"]["timestep"] == "auto");
+    CHECK(in["run"]["skin"] == 0.1);
+    CHECK(in["run"]["max_overlap_fraction"] == 0.1);
+    CHECK(in["materials"][0]["poisson_ratio"] == 0.3);
+    CHECK(in["contact"]["model"] == "hertz_mindlin");
+    CHECK(in["grains"][0]["placement"]["overlap_tolerance"] == 1e-3);
+    // Unit strings are resolved to SI.
+    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == doctest::Approx(1e7));
+    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == doctest::Approx(1e-3));
+    // The step actually used and its limits.
+    const double dt = rep["timestep"]["used_s"].get<double>();
+    CHECK(dt > 0);
+    CHECK(dt == doctest::Approx(0.1 * rep["timestep"]["critical_s"].get<double>()));
+    CHECK(rep["results"]["simulated_time_s"].get<double>() == doctest::Approx(100 * dt));
+}
+
+TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-off") {
+    TempDir dir;
+    REQUIRE(run_scene(dir, "one", small_scene(), "--threads 1").exit_code == 0);
+    REQUIRE(run_scene(dir, "two", small_scene(), "--threads 2").exit_code == 0);
+    const json a = read_report(dir, "one"), b = read_report(dir, "two");
+    CHECK(b["threads"] == 2);
+    CHECK(a["results"]["grains"] == b["results"]["grains"]);
+    CHECK(a["results"]["simulated_time_s"] == b["results"]["simulated_time_s"]);
+    CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
+          doctest::Approx(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-9));
+}
+
+TEST_CASE("cli: unit strings are accepted and resolved to SI") {
+    TempDir dir;
+    json scene = small_scene();
+    scene["domain"]["hi"] = {"60 um", "60 um", "60 um"};
+    scene["materials"][0]["density"] = "7800 kg/m3";
+    scene["materials"][0]["youngs_modulus"] = "1 GPa";
+    scene["grains"][0]["size"]["diameter"] = "6.7 um";
+    scene["fluid"] = {{"viscosity", "10 mPa s"}, {"density", "1.2 g/cm3"}};
+    scene["gravity"] = {0, 0, "-9.81 m/s2"};
+    scene["run"] = {{"duration", "0.2 us"}, {"characteristic_speed", "10 cm/s"}};
+    const Result r = run_scene(dir, "units", scene);
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json in = read_report(dir, "units")["inputs"];
+    CHECK(in["domain"]["hi"][0].get<double>() == doctest::Approx(60e-6));
+    CHECK(in["materials"][0]["density"].get<double>() == doctest::Approx(7800));
+    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == doctest::Approx(1e9));
+    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == doctest::Approx(6.7e-6));
+    CHECK(in["fluid"]["viscosity"].get<double>() == doctest::Approx(0.01));
+    CHECK(in["fluid"]["density"].get<double>() == doctest::Approx(1200));
+    CHECK(in["gravity"][2].get<double>() == doctest::Approx(-9.81));
+    CHECK(in["run"]["duration"].get<double>() == doctest::Approx(2e-7));
+    CHECK(in["run"]["characteristic_speed"].get<double>() == doctest::Approx(0.1));
+}
+
+TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the bad field") {
+    TempDir dir;
+    {
+        json s = small_scene();
+        s["materials"][0]["densty"] = 7800;  // an extra, misspelt key
+        expect_refused(dir, "unknown_key", s, "/materials/0/densty");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0].erase("density");
+        s["materials"][0]["densty"] = "2500 kg/m3";  // the required key misspelt
+        const Result r = expect_refused(dir, "misspelt_required_key", s, "/materials/0/densty");
+        CHECK(r.err.find("/materials/0/density") != std::string::npos);
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["sizes"] = s["grains"][0]["size"];
+        expect_refused(dir, "unknown_key_in_grains", s, "/grains/0/sizes");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["restitution"] = "high";
+        expect_refused(dir, "wrong_type_string", s, "/materials/0/restitution");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["friction"] = true;
+        expect_refused(dir, "wrong_type_bool", s, "/materials/0/friction");
+    }
+    {
+        json s = small_scene();
+        s["seed"] = 1.5;
+        expect_refused(dir, "wrong_type_seed", s, "/seed");
+    }
+    {
+        json s = small_scene();
+        s["domain"]["hi"] = {"6 mm", "6 mm"};
+        expect_refused(dir, "wrong_type_vector", s, "/domain/hi");
+    }
+    {
+        json s = small_scene();
+        s["grains"] = {{"material", "glass"}};  // an object, not an array
+        expect_refused(dir, "wrong_type_array", s, "/grains");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"]["diameter"] = "-1 mm";
+        expect_refused(dir, "negative_diameter", s, "/grains/0/size/diameter");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"]["diameter"] = 0;
+        expect_refused(dir, "zero_diameter", s, "/grains/0/size/diameter");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"] = {{"distribution", "table"}, {"diameters", {"1 mm", "-0.5 mm"}}, {"frequencies", {1, 1}}};
+        expect_refused(dir, "negative_table_diameter", s, "/grains/0/size/diameters");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"] = {{"distribution", "lognormal"}, {"median_diameter", "-1 mm"}, {"sigma_ln", 0.2}};
+        expect_refused(dir, "negative_median", s, "/grains/0/size/median_diameter");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["restitution"] = 0;
+        expect_refused(dir, "restitution_0", s, "/materials/0/restitution");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["restitution"] = 1.5;
+        expect_refused(dir, "restitution_1.5", s, "/materials/0/restitution");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["placement"]["volume_fraction"] = 0.7;
+        const Result r = expect_refused(dir, "volume_fraction_0.7", s, "/grains/0/placement/volume_fraction");
+        CHECK(r.err.find("0.64") != std::string::npos);
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"]["diameter"] = "7 mm";  // the box is 6 mm
+        expect_refused(dir, "grain_larger_than_box", s, "/grains/0/size");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"]["diameter"] = "2.8 mm";  // fits, but a 6 mm period is < 2 cutoffs
+        expect_refused(dir, "period_too_short", s, "/domain/hi");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["size"]["diameter"] = "6.7 parsecs";
+        const Result r = expect_refused(dir, "bad_unit", s, "/grains/0/size/diameter");
+        CHECK(r.err.find("parsecs") != std::string::npos);
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["youngs_modulus"] = "10 MPa s";  // a viscosity, not a modulus
+        expect_refused(dir, "wrong_dimension", s, "/materials/0/youngs_modulus");
+    }
+    {
+        json s = small_scene();
+        s["run"]["timestep"] = "1 ms";
+        const Result r = expect_refused(dir, "timestep_above_limit", s, "/run/timestep");
+        CHECK(r.err.find("stable limit") != std::string::npos);
+    }
+    {
+        json s = small_scene();
+        s["run"].erase("steps");
+        expect_refused(dir, "no_length", s, "/run/steps");
+    }
+    {
+        json s = small_scene();
+        s["grains"][0]["material"] = "steel";
+        expect_refused(dir, "unknown_material", s, "/grains/0/material");
+    }
+    {
+        json s = small_scene();
+        s["domain"]["periodic"] = "xw";
+        expect_refused(dir, "bad_axis", s, "/domain/periodic");
+    }
+    {
+        json s = small_scene();
+        s["domain"]["hi"] = {"6 mm", "-6 mm", "6 mm"};
+        expect_refused(dir, "inverted_box", s, "/domain/hi");
+    }
+}
+
+TEST_CASE("cli: a missing scene file and invalid JSON are refused with exit code 2") {
+    TempDir dir;
+    const Result missing = mrjam(dir, "run " + quote(dir.file("no_such_scene.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(missing.exit_code == 2);
+    CHECK(missing.err.find("no_such_scene.json") != std::string::npos);
+    CHECK(missing.err.find("cannot open") != std::string::npos);
+
+    write_text(dir.file("broken.json"), "{\"seed\": 1, \"domain\": {\"lo\": [0, 0, 0],,}");
+    const Result broken = mrjam(dir, "run " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(broken.exit_code == 2);
+    CHECK(broken.err.find("broken.json") != std::string::npos);
+    CHECK(broken.err.find("not valid JSON") != std::string::npos);
+
+    write_text(dir.file("array.json"), "[1, 2, 3]");
+    const Result array = mrjam(dir, "run " + quote(dir.file("array.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(array.exit_code == 2);
+    CHECK(array.err.find("expected a JSON object") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("r.json")));
+
+    const Result bad_checkpoint = mrjam(dir, "run --resume " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(bad_checkpoint.exit_code != 0);
+    CHECK(bad_checkpoint.err.find("not an mrjam checkpoint") != std::string::npos);
+}
+
+TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends") {
+    TempDir dir;
+    // Stages of 150 and 100 steps. The reference run checkpoints only at step 200 (every 200),
+    // inside the second stage; the second run only at step 120 (every 120; 240 is past the end),
+    // inside the first stage, so its resume crosses the stage boundary.
+    for (const long every : {200L, 120L}) {
+        CAPTURE(every);
+        const std::string name = "two_stage_" + std::to_string(every);
+        const std::string ck = dir.file(name + ".mrjam");
+        const Result full = run_scene(dir, name, two_stage_scene(every, ck, dir.file("out")));
+        CAPTURE(full.err);
+        REQUIRE(full.exit_code == 0);
+        REQUIRE(fs::exists(ck));
+        const json a = read_report(dir, name);
+        REQUIRE(a["status"] == "complete");
+        REQUIRE(a["results"]["steps"] == 250);
+
+        const Result resumed = mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+        CHECK(b["status"] == "complete");
+        CHECK(b["performance"]["steps_run"] == 250 - every);
+        const json& ra = a["results"];
+        const json& rb = b["results"];
+        CHECK(rb["steps"] == 250);
+        CHECK(rb["simulated_time_s"].get<double>() == ra["simulated_time_s"].get<double>());
+        CHECK(rb["kinetic_energy_J"].get<double>() == doctest::Approx(ra["kinetic_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["rotational_energy_J"].get<double>() == doctest::Approx(ra["rotational_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["elastic_energy_J"].get<double>() == doctest::Approx(ra["elastic_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["contacts"] == ra["contacts"]);
+        CHECK(rb["walls"] == ra["walls"]);  // forces and positions of floor and the moving lid
+        // The report of the resumed run still lists both stages, and its inputs are the scene's.
+        CHECK(rb["stages"].size() == 2);
+        CHECK(rb["stages"] == ra["stages"]);
+        CHECK(b["inputs"] == a["inputs"]);
+        CHECK(b["seed"] == a["seed"]);
+    }
+}
+
+}  // TEST_SUITE
