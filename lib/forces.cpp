@@ -33,32 +33,48 @@ double rolling_inertia_of(const Particles& p, std::size_t i) {
 }
 
 template <RollingModel Rolling, CohesionModel Cohesion>
-void grain_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& raft_force,
-                    std::size_t begin, std::size_t end) {
+void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactStats& stats,
+                    std::vector<Vec3>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     NeighborList& list = s.contacts;
     const double dt = s.dt;
+    // Raw restrict pointers: the compiler may then keep grain data in registers across the
+    // force writes instead of reloading it after each one.
+    const Vec3* __restrict x = p.position.data();
+    const Vec3* __restrict v = p.velocity.data();
+    const Vec3* __restrict w = p.angular_velocity.data();
+    const double* __restrict radius = p.radius.data();
+    const double* __restrict mass = p.mass.data();
+    const std::int16_t* __restrict raft = p.raft.data();
+    const std::uint32_t* __restrict offsets = list.offsets.data();
+    const std::uint32_t* __restrict partners = list.partners.data();
+    const std::uint8_t* __restrict image = list.image.data();
+    const double* __restrict contact_distance_sq = list.contact_distance_sq.data();
+    std::uint8_t* __restrict touching = list.touching.data();
+    ContactHistory* __restrict history = list.history.data();
+
     for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 xi = p.position[i];
-        const double ri = p.radius[i];
-        const bool frozen_i = p.raft[i] >= 0;
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            const std::uint32_t j = list.partners[k];
-            const Vec3 d = xi - p.position[j] + list.image_shift(list.image[k]);
-            const double rsum = ri + p.radius[j];
+        const Vec3 xi = x[i];
+        const double ri = radius[i];
+        const bool frozen_i = raft[i] >= 0;
+        Vec3 fi{}, ti{};  // this grain's sums, written once after its pairs
+        for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const std::uint32_t j = partners[k];
+            const Vec3 d = xi - x[j] + list.image_shift(image[k]);
             const double r2 = norm2(d);
-            if (r2 >= rsum * rsum) {
-                list.touching[k] = 0;
+            if (r2 >= contact_distance_sq[k]) {
+                if (touching[k]) touching[k] = 0;  // write only on change: keeps lines clean
                 continue;
             }
-            if (!list.touching[k]) {  // a new contact starts with no tangential or rolling memory
-                list.history[k] = ContactHistory{};
-                list.touching[k] = 1;
+            if (!touching[k]) {  // a new contact starts with no tangential or rolling memory
+                history[k] = ContactHistory{};
+                touching[k] = 1;
             }
-            const bool frozen_j = p.raft[j] >= 0;
+            const bool frozen_j = raft[j] >= 0;
             if (frozen_i && frozen_j) continue;  // both move rigidly: their force does no work
             const double dist = std::sqrt(r2);
-            const double rj = p.radius[j];
+            const double rj = radius[j];
+            const double rsum = ri + rj;
             ContactInput in;
             in.normal = d * (1.0 / dist);
             in.overlap = rsum - dist;
@@ -66,22 +82,21 @@ void grain_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vecto
             in.radius_i = ri;
             in.radius_j = rj;
             in.reduced_radius = ri * rj / rsum;
-            in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+            in.reduced_mass = mass[i] * mass[j] / (mass[i] + mass[j]);
             if constexpr (Rolling == RollingModel::epsd) {
                 in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
             }
-            in.contact_velocity = p.velocity[i] - p.velocity[j] -
-                                  cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
-            in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
+            in.contact_velocity = v[i] - v[j] - cross(w[i] * ri + w[j] * rj, in.normal);
+            in.relative_spin = w[i] - w[j];
             in.wall = false;
             ContactOutput out;
-            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, list.history[k], dt, out);
-            f[i] += out.force_on_i;
+            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, history[k], dt, out);
+            fi += out.force_on_i;
             f[j] -= out.force_on_i;
-            t[i] += out.torque_on_i;
+            ti += out.torque_on_i;
             t[j] += out.torque_on_j;
-            if (frozen_i) raft_force[p.raft[i]] += out.force_on_i;
-            if (frozen_j) raft_force[p.raft[j]] -= out.force_on_i;
+            if (frozen_i) raft_force[raft[i]] += out.force_on_i;
+            if (frozen_j) raft_force[raft[j]] -= out.force_on_i;
             ++stats.contacts;
             const double ratio = in.overlap / std::min(ri, rj);
             if (ratio > stats.max_overlap_ratio) {
@@ -91,6 +106,8 @@ void grain_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vecto
                 stats.worst_is_wall = false;
             }
         }
+        f[i] += fi;
+        t[i] += ti;
     }
 }
 
@@ -154,7 +171,7 @@ void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
 }
 
 template <RollingModel Rolling, CohesionModel Cohesion>
-void compute_all(System& s) {
+void compute_all(System& s, bool zero_first) {
     Particles& p = s.particles;
     const std::size_t n = p.size();
     const int nthreads = std::max(1, s.threads);
@@ -177,7 +194,7 @@ void compute_all(System& s) {
             b.torque[tid].assign(n, Vec3{});
             f = b.force[tid].data();
             t = b.torque[tid].data();
-        } else {
+        } else if (zero_first) {
             std::fill(p.force.begin(), p.force.end(), Vec3{});
             std::fill(p.torque.begin(), p.torque.end(), Vec3{});
         }
@@ -214,23 +231,26 @@ void compute_all(System& s) {
 }
 
 template <RollingModel Rolling>
-void dispatch_cohesion(System& s) {
+void dispatch_cohesion(System& s, bool zero_first) {
     switch (s.physics.cohesion) {
-        case CohesionModel::none: return compute_all<Rolling, CohesionModel::none>(s);
-        case CohesionModel::sjkr: return compute_all<Rolling, CohesionModel::sjkr>(s);
-        case CohesionModel::dmt: return compute_all<Rolling, CohesionModel::dmt>(s);
+        case CohesionModel::none: return compute_all<Rolling, CohesionModel::none>(s, zero_first);
+        case CohesionModel::sjkr: return compute_all<Rolling, CohesionModel::sjkr>(s, zero_first);
+        case CohesionModel::dmt: return compute_all<Rolling, CohesionModel::dmt>(s, zero_first);
+    }
+}
+
+void dispatch(System& s, bool zero_first) {
+    switch (s.physics.rolling) {
+        case RollingModel::none: return dispatch_cohesion<RollingModel::none>(s, zero_first);
+        case RollingModel::epsd: return dispatch_cohesion<RollingModel::epsd>(s, zero_first);
+        case RollingModel::sds: return dispatch_cohesion<RollingModel::sds>(s, zero_first);
     }
 }
 
 }  // namespace
 
-void compute_forces(System& s) {
-    switch (s.physics.rolling) {
-        case RollingModel::none: return dispatch_cohesion<RollingModel::none>(s);
-        case RollingModel::epsd: return dispatch_cohesion<RollingModel::epsd>(s);
-        case RollingModel::sds: return dispatch_cohesion<RollingModel::sds>(s);
-    }
-}
+void compute_forces(System& s) { dispatch(s, true); }
+void accumulate_forces(System& s) { dispatch(s, false); }
 
 double contact_elastic_energy(const System& s) {
     const Particles& p = s.particles;

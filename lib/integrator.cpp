@@ -24,6 +24,10 @@ bool kick_drift(System& s) {
             p.velocity[i] += p.force[i] * (h / p.mass[i]);
             p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
         }
+        // The force is used up: clear it here, while it is in cache, instead of in a separate
+        // pass at the start of the force evaluation.
+        p.force[i] = Vec3{};
+        p.torque[i] = Vec3{};
         p.position[i] += p.velocity[i] * dt;
         moved |= s.contacts.moved_beyond_skin(i, p.position[i]);
     }
@@ -68,10 +72,11 @@ void fail_overlap(const System& s) {
     out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, st.worst_i)
         << " overlaps " << (st.worst_is_wall ? "wall '" + s.walls[st.worst_j].name + "'" : describe_grain(s, st.worst_j))
         << " by " << st.max_overlap_ratio << " of the smaller radius (limit " << s.max_overlap_fraction
-        << "). Likely cause: the time step (" << s.dt
-        << " s) is too long for the contact stiffness and speeds, or forces (cohesion, magnetic, "
-           "gravity, a fast wall) exceed what the Young's modulus can hold; shorten the step, "
-           "lower the loads, or raise run.max_overlap_fraction if large overlaps are intended.";
+        << "). Likely causes: impacts too fast for the Young's modulus (the Hertz overlap of an "
+           "impact grows as R (rho v^2 / Y)^(2/5), whatever the step: raise youngs_modulus or "
+           "lower the speeds), loads (cohesion, magnetic, gravity, a fast wall) the modulus cannot "
+           "hold, or a time step (" << s.dt << " s) too long for the contact stiffness; or raise "
+           "run.max_overlap_fraction if large overlaps are intended.";
     throw BlowUp(out.str());
 }
 
@@ -107,7 +112,7 @@ void advance(System& s) {
     s.time += s.dt;
     ++s.step;
     if (rebuild) s.contacts.build(s.particles, s.domain, s.threads);
-    compute_forces(s);
+    accumulate_forces(s);
     const std::size_t bad = kick_check(s);
     if (bad < s.particles.size()) fail_grain(s, bad);
     if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);

@@ -31,13 +31,18 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
             // Two smallest grains of this material meeting head on.
             const double ystar = s.pairs(static_cast<std::uint16_t>(m), static_cast<std::uint16_t>(m)).effective_youngs;
             lim.hertz = std::min(lim.hertz, hertz_contact_duration(0.5 * p.mass[i], 0.5 * r, ystar, characteristic_speed));
+            // Against a wall (R* = R, m* = m): shorter than grain-grain when the wall is stiffer.
+            for (const Wall& w : s.walls) {
+                const double ystar_wall = s.pairs(static_cast<std::uint16_t>(m), w.material).effective_youngs;
+                lim.hertz = std::min(lim.hertz, hertz_contact_duration(p.mass[i], r, ystar_wall, characteristic_speed));
+            }
         }
         if (s.physics.drag && s.physics.viscosity > 0)
             lim.drag = std::min(lim.drag, p.mass[i] / (6.0 * M_PI * s.physics.viscosity * r));
     }
     lim.critical = std::min({lim.rayleigh, lim.hertz, lim.drag});
     lim.limiting = lim.critical == lim.rayleigh ? "Rayleigh time of the smallest grain"
-                   : lim.critical == lim.hertz  ? "Hertz contact time of the smallest pair"
+                   : lim.critical == lim.hertz  ? "Hertz contact time of the smallest pair (or grain and wall)"
                                                 : "Stokes drag relaxation time of the smallest grain";
     lim.stable_limit = kMaxStepFraction * lim.critical;
     return lim;

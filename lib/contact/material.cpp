@@ -1,5 +1,7 @@
 #include "contact/material.hpp"
 
+#include <cmath>
+
 #include "contact/restitution.hpp"
 
 namespace mrjam {
@@ -10,6 +12,7 @@ PairCoefficients PairTable::combine(const Material& a, const Material& b) {
                                 (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
     c.effective_shear = 1.0 / (2 * (2 - a.poisson_ratio) * (1 + a.poisson_ratio) / a.youngs_modulus +
                                2 * (2 - b.poisson_ratio) * (1 + b.poisson_ratio) / b.youngs_modulus);
+    c.tangential_to_normal_root = std::sqrt(4.0 * c.effective_shear / c.effective_youngs);
     // Mixed pairs take the mean of the two materials' coefficients (LIGGGHTS would need a full
     // matrix; scenes here mix at most a grain and a wall material).
     const double e = 0.5 * (a.restitution + b.restitution);

@@ -28,6 +28,7 @@ struct Material {
 struct PairCoefficients {
     double effective_youngs = 0;   // Y*: 1/Y* = (1-nu_i^2)/Y_i + (1-nu_j^2)/Y_j
     double effective_shear = 0;    // G*: 1/G* = 2(2-nu_i)(1+nu_i)/Y_i + ... (Mindlin)
+    double tangential_to_normal_root = 0;  // sqrt(k_t / S_n) = sqrt(4 G* / Y*)
     double damping_beta = 0;       // |beta| in gamma = 2 sqrt(5/6) beta sqrt(S m*), from e
     double friction = 0;
     double rolling_friction = 0;

@@ -55,6 +55,9 @@ public:
     // is apart: a one-byte flag instead of a 48-byte write for each of the many listed pairs
     // that do not touch.
     std::vector<std::uint8_t> touching;
+    // (R_i + R_j)^2 per pair, stored so the contact test reads the list sequentially instead of
+    // fetching the partner's radius from a random address.
+    std::vector<double> contact_distance_sq;
     const Vec3& image_shift(std::uint8_t code) const { return shifts_[code]; }
 
     std::size_t pair_count() const { return partners.size(); }

@@ -45,7 +45,11 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
                 r = static_cast<int>(s.rafts.size() - 1);
             }
             for (std::size_t i = 0; i < s.particles.size(); ++i) {
-                const Vec3& x = s.particles.position[i];
+                // Positions are wrapped into a periodic box only when the neighbour list is
+                // rebuilt; a grain that crossed a periodic face since then is judged by its image
+                // inside the box, as the region means it.
+                Vec3 x = s.particles.position[i];
+                s.domain.wrap(x);
                 bool inside = true;
                 const Region& g = f.region;
                 if (g.kind == Region::Kind::box) {
@@ -135,6 +139,11 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     auto last_progress = Clock::now();
     auto last_checkpoint = Clock::now();
     std::string status = "complete";
+
+    // A checkpoint does not store the background flow: a resumed run restores the one the stages
+    // before its own had set (its own stage sets it again in start_stage).
+    for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k)
+        if (scene.stages[k].flow) s.flow = scene.stages[k].flow;
 
     try {
         for (std::size_t k = pos.stage; k < scene.stages.size(); ++k) {

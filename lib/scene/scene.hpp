@@ -38,7 +38,7 @@ struct OutputPlan {
     bool snapshots = false;
     SnapshotFormat snapshot_format = SnapshotFormat::vtk_legacy;
     long snapshot_every = 0;
-    long checkpoint_every_steps = 0;   // 0: only on interrupt and at the end
+    long checkpoint_every_steps = 0;   // 0: by wall time (below) and on interrupt only
     double checkpoint_every_seconds = 600;
     std::string checkpoint_path;       // empty: <directory>/checkpoint.mrjam
     double progress_interval_s = 5;

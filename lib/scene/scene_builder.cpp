@@ -113,10 +113,20 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
         if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
             node.fail("size", "list placement needs a single grain size");
         for (std::size_t i = 0; i < list.size(); ++i) {
+            // Read through a node whose key is the index, so errors name .../positions/<i>/<axis>.
+            const std::string index = std::to_string(i);
             json out = json::object();
-            json in = {{"p", list[i]}};
-            SceneNode item(in, out, place.path_of("positions") + "/" + std::to_string(i));
-            spheres.push_back({item.vector("p", units::length, std::nullopt), 0.5 * sizes.max_diameter()});
+            json in = {{index, list[i]}};
+            SceneNode item(in, out, place.path_of("positions"));
+            const Vec3 centre = item.vector(index, units::length, std::nullopt);
+            // On a closed axis a centre outside the box is a grain the first step would stop on
+            // as "left the box"; say so here, with the position's path.
+            for (int k = 0; k < 3; ++k)
+                if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
+                    item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +
+                                         fmt(centre[k]) + " m, box " + fmt(s.domain.lo[k]) + " to " +
+                                         fmt(s.domain.hi[k]) + " m), which is not periodic");
+            spheres.push_back({centre, 0.5 * sizes.max_diameter()});
         }
         place.finish();
         if (!insert) spheres.clear();
@@ -133,6 +143,49 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
         p.velocity[i] = v;
         p.angular_velocity[i] = spin;
     }
+}
+
+// Each batch is placed on its own: random packings do not see the grains of earlier batches, and
+// list positions are taken as given. Overlaps above run.max_overlap_fraction would stop the run
+// at step 0 with a blow-up blaming the time step; refuse them here instead, naming the batches.
+void check_initial_overlaps(const System& s, const std::vector<std::size_t>& batch_end) {
+    const std::size_t n = s.particles.size();
+    if (n < 2) return;
+    Particles p = s.particles;  // the list build wraps positions; keep the scene's as they are
+    NeighborList list(NeighborList::Settings{0.0, 1.0, false});  // cutoff R_i + R_j: the overlaps
+    try {
+        list.build(p, s.domain, 1);
+    } catch (const std::runtime_error&) {
+        return;  // a period too short for the grains: choose_timestep refuses it with its path
+    }
+    double worst = 0;
+    std::size_t wi = 0, wj = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::size_t j = list.partners[k];
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double ratio = (p.radius[i] + p.radius[j] - norm(d)) / std::min(p.radius[i], p.radius[j]);
+            if (ratio > worst) { worst = ratio; wi = i; wj = j; }
+        }
+    }
+    if (!(worst > s.max_overlap_fraction)) return;
+    auto batch_of = [&](std::size_t i) {
+        return static_cast<std::size_t>(std::upper_bound(batch_end.begin(), batch_end.end(), i) - batch_end.begin());
+    };
+    std::size_t bi = batch_of(wi), bj = batch_of(wj);
+    if (bi > bj) { std::swap(bi, bj); std::swap(wi, wj); }
+    const std::string ratio = fmt(worst), limit = fmt(s.max_overlap_fraction);
+    if (bi != bj)
+        throw SceneError("/grains/" + std::to_string(bj) + "/placement",
+                         "its grains overlap those of /grains/" + std::to_string(bi) + " by up to " + ratio +
+                             " of the smaller radius (run.max_overlap_fraction is " + limit +
+                             "): each batch is packed without regard to the others, so batches need "
+                             "disjoint regions");
+    const std::size_t first = bi == 0 ? 0 : batch_end[bi - 1];
+    throw SceneError("/grains/" + std::to_string(bi) + "/placement",
+                     "grains " + std::to_string(wi - first) + " and " + std::to_string(wj - first) +
+                         " of this batch overlap by " + ratio + " of the smaller radius, above run.max_overlap_fraction (" +
+                         limit + "); move them apart, or for a random placement lower its overlap_tolerance");
 }
 
 Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names) {
@@ -267,11 +320,14 @@ Scene build_scene(const json& input, const BuildOptions& options) {
 
     Rng rng(scene.seed);
     std::size_t batches = 0;
+    std::vector<std::size_t> batch_end;  // one past the last grain of each batch
     for (auto g : root.objects("grains", true)) {
         read_grains(g, scene, names, rng, options.insert_grains);
+        batch_end.push_back(s.particles.size());
         ++batches;
     }
     if (batches == 0) root.fail("grains", "needs at least one batch of grains");
+    if (options.insert_grains) check_initial_overlaps(s, batch_end);
     sort_spatially(s.particles, s.domain);
     // The skin length needs the grain sizes, known once grains exist (choose_timestep).
     scene.skin_fraction = skin_fraction;
