@@ -356,7 +356,7 @@ void add_bench_command(CLI::App& app, int& exit_status) {
         prepare(s);
         const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup0).count();
         const auto t0 = std::chrono::steady_clock::now();
-        for (long i = 0; i < args->steps; ++i) advance(s);
+        advance_steps(s, args->steps);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const double grain_steps = static_cast<double>(s.particles.size()) * args->steps;
         nlohmann::json out = {

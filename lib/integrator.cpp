@@ -8,52 +8,62 @@
 namespace mrjam {
 namespace {
 
-// First half kick fused with the drift and the neighbour-list displacement test: one pass over
-// the grains instead of three. Returns true when the list must be rebuilt.
-bool kick_drift(System& s) {
+// One pass over the grains that can do two jobs, fused so the arrays stream through cache once:
+//  Finish: the second half kick of the step just computed, and the sanity check of every grain
+//          (non-finite state, or outside the box on a closed axis);
+//  Start:  the first half kick of the next step, clearing the used force, the drift, and the
+//          neighbour-list displacement test.
+// The arithmetic per grain is the same whether the jobs are fused or not, so a run gives the
+// same bits however its steps are grouped. Returns the first bad grain, or n.
+template <bool Finish, bool Start>
+std::size_t kick_pass(System& s, bool& rebuild) {
     Particles& p = s.particles;
     const double h = 0.5 * s.dt, dt = s.dt;
     const std::size_t n = p.size();
-    int moved = p.size() + 1 != s.contacts.offsets.size();
-#pragma omp parallel for schedule(static) num_threads(s.threads) reduction(| : moved)
-    for (std::size_t i = 0; i < n; ++i) {
-        if (p.raft[i] >= 0) {  // prescribed rigid motion
-            p.velocity[i] = s.rafts[p.raft[i]].velocity;
-            p.angular_velocity[i] = Vec3{};
-        } else {
-            p.velocity[i] += p.force[i] * (h / p.mass[i]);
-            p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
-        }
-        // The force is used up: clear it here, while it is in cache, instead of in a separate
-        // pass at the start of the force evaluation.
-        p.force[i] = Vec3{};
-        p.torque[i] = Vec3{};
-        p.position[i] += p.velocity[i] * dt;
-        moved |= s.contacts.moved_beyond_skin(i, p.position[i]);
-    }
-    for (auto& w : s.walls) w.point += w.velocity * dt;
-    return moved != 0;
-}
-
-// Second half kick fused with the sanity check of every grain; returns the first bad grain
-// (non-finite state, or outside the box on a closed axis) or n when all are fine.
-std::size_t kick_check(System& s) {
-    Particles& p = s.particles;
-    const double h = 0.5 * s.dt;
-    const std::size_t n = p.size();
     const Domain& dom = s.domain;
+    Vec3* __restrict x = p.position.data();
+    Vec3* __restrict v = p.velocity.data();
+    Vec3* __restrict w = p.angular_velocity.data();
+    Vec3* __restrict f = p.force.data();
+    Vec3* __restrict t = p.torque.data();
+    const double* __restrict mass = p.mass.data();
+    const double* __restrict inertia = p.inertia.data();
+    const std::int16_t* __restrict raft = p.raft.data();
     std::size_t bad = n;
-#pragma omp parallel for schedule(static) num_threads(s.threads) reduction(min : bad)
+    int moved = Start && p.size() + 1 != s.contacts.offsets.size();
+#pragma omp parallel for schedule(static) num_threads(s.threads) reduction(min : bad) reduction(| : moved)
     for (std::size_t i = 0; i < n; ++i) {
-        if (p.raft[i] < 0) {
-            p.velocity[i] += p.force[i] * (h / p.mass[i]);
-            p.angular_velocity[i] += p.torque[i] * (h / p.inertia[i]);
+        const bool free = raft[i] < 0;
+        if constexpr (Finish) {
+            if (free) {
+                v[i] += f[i] * (h / mass[i]);
+                w[i] += t[i] * (h / inertia[i]);
+            }
+            // One sum is non-finite if any term is: a cheap test for NaN and infinity.
+            const double sum = x[i].x + x[i].y + x[i].z + v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z;
+            bool ok = std::isfinite(sum);
+            const double margin = 2 * p.radius[i];
+            for (int k = 0; k < 3; ++k)
+                ok = ok && (dom.periodic[k] || (x[i][k] >= dom.lo[k] - margin && x[i][k] <= dom.hi[k] + margin));
+            if (!ok && i < bad) bad = i;
         }
-        bool ok = finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i]);
-        const double margin = 2 * p.radius[i];
-        for (int k = 0; k < 3; ++k)
-            ok = ok && (dom.periodic[k] || (p.position[i][k] >= dom.lo[k] - margin && p.position[i][k] <= dom.hi[k] + margin));
-        if (!ok && i < bad) bad = i;
+        if constexpr (Start) {
+            if (free) {
+                v[i] += f[i] * (h / mass[i]);
+                w[i] += t[i] * (h / inertia[i]);
+            } else {  // prescribed rigid motion
+                v[i] = s.rafts[raft[i]].velocity;
+                w[i] = Vec3{};
+            }
+            f[i] = Vec3{};  // used up: cleared here, in cache, not in a pass of its own
+            t[i] = Vec3{};
+            x[i] += v[i] * dt;
+            moved |= s.contacts.moved_beyond_skin(i, x[i]);
+        }
+    }
+    if constexpr (Start) {
+        for (auto& wall : s.walls) wall.point += wall.velocity * dt;
+        rebuild = moved != 0;
     }
     return bad;
 }
@@ -107,15 +117,21 @@ void prepare(System& s) {
     if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
 }
 
-void advance(System& s) {
-    const bool rebuild = kick_drift(s);
-    s.time += s.dt;
-    ++s.step;
-    if (rebuild) s.contacts.build(s.particles, s.domain, s.threads);
-    accumulate_forces(s);
-    const std::size_t bad = kick_check(s);
-    if (bad < s.particles.size()) fail_grain(s, bad);
-    if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
+void advance(System& s) { advance_steps(s, 1); }
+
+void advance_steps(System& s, long count) {
+    if (count <= 0) return;
+    bool rebuild = false;
+    kick_pass<false, true>(s, rebuild);
+    for (long c = 0; c < count; ++c) {
+        s.time += s.dt;
+        ++s.step;
+        if (rebuild) s.contacts.build(s.particles, s.domain, s.threads);
+        accumulate_forces(s);
+        if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
+        const std::size_t bad = c + 1 < count ? kick_pass<true, true>(s, rebuild) : kick_pass<true, false>(s, rebuild);
+        if (bad < s.particles.size()) fail_grain(s, bad);
+    }
 }
 
 }  // namespace mrjam

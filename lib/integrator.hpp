@@ -21,4 +21,9 @@ void prepare(System& system);
 // box through a side with no periodic boundary.
 void advance(System& system);
 
+// `count` steps in a row, identical bit for bit to calling advance() `count` times but faster:
+// the second half kick of each step shares its pass over the grains with the first half kick of
+// the next.
+void advance_steps(System& system, long count);
+
 }  // namespace mrjam
