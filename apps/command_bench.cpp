@@ -21,6 +21,7 @@
 #include "commands.hpp"
 #include "contact/restitution.hpp"
 #include "integrator.hpp"
+#include "observers.hpp"
 #include "io/lammps_data.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
@@ -372,6 +373,9 @@ void add_bench_command(CLI::App& app, int& exit_status) {
             {"contacts_per_grain", 2.0 * s.contact_stats.contacts / s.particles.size()},
             {"neighbour_pairs_per_grain", 2.0 * s.contacts.pair_count() / s.particles.size()},
             {"neighbour_builds", s.contacts.builds()},
+            // For a cross-check of the physics against LIGGGHTS on the same state.
+            {"kinetic_energy_final_J", energy(s).translational},
+            {"rotational_energy_final_J", energy(s).rotational},
         };
         std::printf("bench contact: %zu grains, %ld steps, %d thread(s): %.3g grain-steps/s, %.3f core-us per grain-step "
                     "(%.2f contacts and %.2f listed neighbours per grain, %ld list builds)\n",

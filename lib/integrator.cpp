@@ -30,7 +30,14 @@ std::size_t kick_pass(System& s, bool& rebuild) {
     const double* __restrict inertia = p.inertia.data();
     const std::int16_t* __restrict raft = p.raft.data();
     std::size_t bad = n;
-    int moved = Start && p.size() + 1 != s.contacts.offsets.size();
+    // A list built for another grain count is stale whatever the displacements.
+    const bool stale = p.size() + 1 != s.contacts.offsets.size();
+    int moved = 0;
+    const Vec3* __restrict built = s.contacts.positions_at_build();
+    const double rebuild_sq = s.contacts.rebuild_displacement_sq();
+    bool closed[3];
+    bool any_closed = false;
+    for (int k = 0; k < 3; ++k) any_closed |= (closed[k] = !dom.periodic[k]);
 #pragma omp parallel for schedule(static) num_threads(s.threads) reduction(min : bad) reduction(| : moved)
     for (std::size_t i = 0; i < n; ++i) {
         const bool free = raft[i] < 0;
@@ -42,9 +49,11 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             // One sum is non-finite if any term is: a cheap test for NaN and infinity.
             const double sum = x[i].x + x[i].y + x[i].z + v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z;
             bool ok = std::isfinite(sum);
-            const double margin = 2 * p.radius[i];
-            for (int k = 0; k < 3; ++k)
-                ok = ok && (dom.periodic[k] || (x[i][k] >= dom.lo[k] - margin && x[i][k] <= dom.hi[k] + margin));
+            if (any_closed) {
+                const double margin = 2 * p.radius[i];
+                for (int k = 0; k < 3; ++k)
+                    ok = ok && (!closed[k] || (x[i][k] >= dom.lo[k] - margin && x[i][k] <= dom.hi[k] + margin));
+            }
             if (!ok && i < bad) bad = i;
         }
         if constexpr (Start) {
@@ -58,12 +67,12 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             f[i] = Vec3{};  // used up: cleared here, in cache, not in a pass of its own
             t[i] = Vec3{};
             x[i] += v[i] * dt;
-            moved |= s.contacts.moved_beyond_skin(i, x[i]);
+            if (!stale && !moved) moved = norm2(x[i] - built[i]) > rebuild_sq;
         }
     }
     if constexpr (Start) {
         for (auto& wall : s.walls) wall.point += wall.velocity * dt;
-        rebuild = moved != 0;
+        rebuild = stale || moved != 0;
     }
     return bad;
 }

@@ -41,10 +41,10 @@ public:
     void build(Particles& p, const Domain& domain, int threads);
 
     bool needs_rebuild(const Particles& p, int threads) const;
-    // The same test for one grain, for passes that already touch every position.
-    bool moved_beyond_skin(std::size_t i, const Vec3& x) const {
-        return i >= position_at_build_.size() || norm2(x - position_at_build_[i]) > 0.25 * settings_.skin * settings_.skin;
-    }
+    // Positions at the last build and the squared displacement that forces a rebuild, for passes
+    // that already touch every position and test each grain themselves.
+    const Vec3* positions_at_build() const { return position_at_build_.data(); }
+    double rebuild_displacement_sq() const { return 0.25 * settings_.skin * settings_.skin; }
 
     // Pair k of owner i: k in [offsets[i], offsets[i+1]).
     std::vector<std::uint32_t> offsets;
