@@ -6,6 +6,8 @@
 // CMake built next to the tests (MRJAM_BINARY).
 #include <doctest/doctest.h>
 
+#include "temp_dir.hpp"
+
 #include <sys/wait.h>
 
 #include <atomic>
@@ -21,30 +23,14 @@
 
 namespace {
 
+using mrjam_test::slurp;
+struct TempDir : mrjam_test::TempDir {
+    TempDir() : mrjam_test::TempDir("mrjam_cli") {}
+};
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        std::random_device rd;
-        path = fs::temp_directory_path() / ("mrjam_cli_" + std::to_string(rd()) + "_" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 void write_text(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary);

@@ -2,6 +2,8 @@
 // written for a few particles and read back far enough to check counts and exact values.
 #include <doctest/doctest.h>
 
+#include "temp_dir.hpp"
+
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -20,36 +22,17 @@
 
 namespace {
 
+using mrjam_test::slurp;
+struct TempDir : mrjam_test::TempDir {
+    TempDir() : mrjam_test::TempDir("mrjam_snapshot") {}
+};
+
 namespace fs = std::filesystem;
 using mrjam::Domain;
 using mrjam::Particles;
 using mrjam::SnapshotFormat;
 using mrjam::Vec3;
 
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        std::random_device rd;
-        path = fs::temp_directory_path() /
-               ("mrjam_snapshot_" + std::to_string(rd()) + "_" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    REQUIRE(in.good());
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 std::vector<std::string> split_lines(const std::string& text) {
     std::vector<std::string> lines;
