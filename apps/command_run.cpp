@@ -1,5 +1,6 @@
 // `mrjam run SCENE.json --report REPORT.json`: the generic entry point. Runs any scene the
 // engine can express; other modes build their scenes and call the same protocol runner.
+#include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -50,6 +51,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
             resumed_stage_log = header.history;
             std::cerr << "[run] resuming from " << args->resume << " at step " << scene.system.step << "\n";
         } else {
+            build.base_directory = std::filesystem::path(args->scene).parent_path().string();
             scene = build_scene(read_json_file(args->scene), build);
             choose_timestep(scene);
         }

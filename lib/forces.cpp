@@ -49,7 +49,7 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
     const std::uint32_t* __restrict offsets = list.offsets.data();
     const std::uint32_t* __restrict partners = list.partners.data();
     const std::uint8_t* __restrict image = list.image.data();
-    const double* __restrict contact_distance_sq = list.contact_distance_sq.data();
+    const double* __restrict range_sq = list.range_sq.data();
     std::uint8_t* __restrict touching = list.touching.data();
     ContactHistory* __restrict history = list.history.data();
 
@@ -62,7 +62,7 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             const std::uint32_t j = partners[k];
             const Vec3 d = xi - x[j] + list.image_shift(image[k]);
             const double r2 = norm2(d);
-            if (r2 >= contact_distance_sq[k]) {
+            if (r2 >= range_sq[k]) {
                 if (touching[k]) touching[k] = 0;  // write only on change: keeps lines clean
                 continue;
             }
@@ -217,6 +217,8 @@ void compute_all(System& s, bool zero_first) {
             }
         }
     }
+
+    if (s.magnetic.enabled) add_magnetic_forces(s.magnetic, p, s.time, nthreads);
 
     s.contact_stats = ContactStats{};
     for (const auto& st : b.stats) merge_stats(s.contact_stats, st);

@@ -67,6 +67,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             f[i] = Vec3{};  // used up: cleared here, in cache, not in a pass of its own
             t[i] = Vec3{};
             x[i] += v[i] * dt;
+            if (s.magnetic.any_permanent) p.orientation[i].advance(w[i], dt);  // carries the body-fixed moment
             if (!stale && !moved) moved = norm2(x[i] - built[i]) > rebuild_sq;
         }
     }
@@ -75,6 +76,13 @@ std::size_t kick_pass(System& s, bool& rebuild) {
         rebuild = stale || moved != 0;
     }
     return bad;
+}
+
+// The magnetic list shares the contact list's skin and is rebuilt with it (after it, so the
+// positions are already wrapped into the box).
+void rebuild_neighbours(System& s) {
+    s.contacts.build(s.particles, s.domain, s.threads);
+    if (s.magnetic.enabled) s.magnetic.pairs.build(s.particles, s.domain, s.threads);
 }
 
 std::string describe_grain(const System& s, std::size_t i) {
@@ -116,7 +124,7 @@ void fail_grain(const System& s, std::size_t i) {
 }  // namespace
 
 void prepare(System& s) {
-    s.contacts.build(s.particles, s.domain, s.threads);
+    rebuild_neighbours(s);
     // Forces of the present state without advancing any contact spring: the grains have not
     // moved, so the tangential and rolling histories must not grow (dt = 0 adds nothing).
     const double dt = s.dt;
@@ -135,7 +143,7 @@ void advance_steps(System& s, long count) {
     for (long c = 0; c < count; ++c) {
         s.time += s.dt;
         ++s.step;
-        if (rebuild) s.contacts.build(s.particles, s.domain, s.threads);
+        if (rebuild) rebuild_neighbours(s);
         accumulate_forces(s);
         if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
         const std::size_t bad = c + 1 < count ? kick_pass<true, true>(s, rebuild) : kick_pass<true, false>(s, rebuild);

@@ -44,6 +44,16 @@ nlohmann::json state_summary(const System& s) {
     j["max_overlap_ratio"] = s.contact_stats.max_overlap_ratio;
     j["neighbour_builds"] = s.contacts.builds();
     j["neighbour_pairs"] = s.contacts.pair_count();
+    if (s.magnetic.enabled) {
+        double moment = 0;
+        for (const Vec3& m : s.particles.dipole_moment) moment += norm(m);
+        const char* policies[] = {"fixed", "lagged", "iterations", "converged"};
+        j["magnetic"] = {{"policy", policies[static_cast<int>(s.magnetic.settings.policy)]},
+                         {"mean_iterations_per_step", mean_iterations(s.magnetic)},
+                         {"listed_magnetic_neighbours_per_grain", s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
+                         {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},
+                         {"applied_field", s.magnetic.field->name()}};
+    }
     for (const Raft& r : s.rafts)
         j["rafts"].push_back({{"name", r.name}, {"grains", r.members}, {"force_N", {r.force.x, r.force.y, r.force.z}},
                               {"velocity_m_s", {r.velocity.x, r.velocity.y, r.velocity.z}}});

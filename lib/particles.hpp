@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/quaternion.hpp"
 #include "core/vec3.hpp"
 
 namespace mrjam {
@@ -17,7 +18,12 @@ struct Particles {
     std::vector<double> radius;
     std::vector<double> mass;
     std::vector<double> inertia;      // moment of inertia of a solid sphere, 2/5 m R^2
-    std::vector<Vec3> dipole_moment;  // A m^2; filled by the magnetic terms (issue 3)
+    std::vector<Vec3> dipole_moment;  // A m^2, lab frame, as used for the current forces
+    // Magnetic constants of each grain (zero for a non-magnetic grain):
+    std::vector<double> induced_coefficient;  // 4 pi R^3 (mu_r - 1)/(mu_r + 2): m = C H (eq. 2.4)
+    std::vector<double> saturation_moment;    // M_s V: cap on the induced moment's magnitude
+    std::vector<Vec3> permanent_moment;       // body frame, A m^2 (a magnetised grain)
+    std::vector<Quaternion> orientation;      // body to lab
     std::vector<std::uint16_t> material;  // index into the scene's material table
     std::vector<std::uint32_t> groups;    // bit k set: particle belongs to group k
     std::vector<std::uint64_t> id;        // stable id, survives reordering and restarts
@@ -30,7 +36,8 @@ struct Particles {
     template <class F>
     void for_each_array(F&& f) {
         f(position); f(velocity); f(angular_velocity); f(force); f(torque); f(radius); f(mass);
-        f(inertia); f(dipole_moment); f(material); f(groups); f(id); f(raft);
+        f(inertia); f(dipole_moment); f(induced_coefficient); f(saturation_moment); f(permanent_moment);
+        f(orientation); f(material); f(groups); f(id); f(raft);
     }
     template <class F>
     void for_each_array(F&& f) const {

@@ -8,6 +8,7 @@
 #include "contact/material.hpp"
 #include "core/domain.hpp"
 #include "fluid/flow_field.hpp"
+#include "magnetic/magnetic_model.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "particles.hpp"
 #include "walls.hpp"
@@ -54,6 +55,7 @@ struct System {
     std::vector<Raft> rafts;
     NeighborList contacts;
     ContactStats contact_stats;
+    MagneticModel magnetic;  // off unless the scene has a "magnetic" block
 
     double time = 0;
     long step = 0;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/vec3.hpp"
+
 namespace mrjam {
 
 struct Material {
@@ -20,6 +22,12 @@ struct Material {
     double rolling_viscous = 0.0;     // SDS gamma_roll, N s/m
     double cohesion_energy_density = 0.0;  // SJKR k_c, J/m3
     double surface_energy = 0.0;           // DMT gamma, J/m2
+    // Magnetic (used only when the scene has a "magnetic" block). Iron-like defaults.
+    double relative_permeability = 1000;       // mu_r of the grain material
+    double saturation_magnetisation = 1.7e6;   // A/m, iron
+    double remanent_magnetisation = 0;         // A/m, a permanently magnetised grain
+    bool random_remanence_direction = true;    // else along remanence_direction
+    Vec3 remanence_direction{0, 0, 1};
 
     double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
 };

@@ -9,7 +9,7 @@
 namespace mrjam {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x314b434d414a524dull;  // "MRJAMCK1"
+constexpr std::uint64_t kMagic = 0x324b434d414a524dull;  // "MRJAMCK2"
 
 void put_particles(std::ostream& out, const Particles& p) {
     p.for_each_array([&](const auto& a) { binary::put_vector(out, a); });
@@ -44,6 +44,7 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
         binary::put(out, s.dt);
         put_particles(out, s.particles);
         s.contacts.save(out);
+        if (s.magnetic.enabled) s.magnetic.pairs.save(out);
         binary::put<std::uint64_t>(out, s.walls.size());
         for (const Wall& w : s.walls) {
             binary::put(out, w.point);
@@ -84,6 +85,7 @@ void restore_state(const std::string& path, System& s) {
     s.dt = binary::get<double>(in);
     get_particles(in, s.particles);
     s.contacts.load(in);
+    if (s.magnetic.enabled) s.magnetic.pairs.load(in);
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
     for (Wall& w : s.walls) {

@@ -135,7 +135,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
         std::vector<std::uint8_t> image;
         std::vector<ContactHistory> history;
         std::vector<std::uint8_t> touching;
-        std::vector<double> contact_distance_sq;
+        std::vector<double> range_sq;
     };
     const int nthreads = std::max(1, threads);
     std::vector<Chunk> chunks(nthreads);
@@ -186,7 +186,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             ch.image.push_back(code);
                             ch.history.push_back(h);
                             ch.touching.push_back(touch);
-                            ch.contact_distance_sq.push_back((ri + p.radius[j]) * (ri + p.radius[j]));
+                            ch.range_sq.push_back(interaction_range(ri, p.radius[j]) * interaction_range(ri, p.radius[j]));
                             ++ch.count[ii - begin];
                         }
                     }
@@ -198,7 +198,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     for (const auto& ch : chunks) total += ch.partner.size();
     partners.reserve(total); image.clear(); image.reserve(total); history.reserve(total);
     touching.clear(); touching.reserve(total);
-    contact_distance_sq.clear(); contact_distance_sq.reserve(total);
+    range_sq.clear(); range_sq.reserve(total);
     std::size_t i = 0;
     for (const auto& ch : chunks) {
         for (auto c : ch.count) { offsets[i + 1] = offsets[i] + c; ++i; }
@@ -206,7 +206,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
         image.insert(image.end(), ch.image.begin(), ch.image.end());
         history.insert(history.end(), ch.history.begin(), ch.history.end());
         touching.insert(touching.end(), ch.touching.begin(), ch.touching.end());
-        contact_distance_sq.insert(contact_distance_sq.end(), ch.contact_distance_sq.begin(), ch.contact_distance_sq.end());
+        range_sq.insert(range_sq.end(), ch.range_sq.begin(), ch.range_sq.end());
     }
     position_at_build_ = p.position;
     ++builds_;
@@ -234,7 +234,7 @@ void NeighborList::save(std::ostream& out) const {
     binary::put_vector(out, image);
     binary::put_vector(out, history);
     binary::put_vector(out, touching);
-    binary::put_vector(out, contact_distance_sq);
+    binary::put_vector(out, range_sq);
     binary::put_vector(out, position_at_build_);
     for (const Vec3& s : shifts_) binary::put(out, s);
     binary::put(out, builds_);
@@ -247,7 +247,7 @@ void NeighborList::load(std::istream& in) {
     binary::get_vector(in, image);
     binary::get_vector(in, history);
     binary::get_vector(in, touching);
-    binary::get_vector(in, contact_distance_sq);
+    binary::get_vector(in, range_sq);
     binary::get_vector(in, position_at_build_);
     for (Vec3& s : shifts_) s = binary::get<Vec3>(in);
     builds_ = binary::get<long>(in);

@@ -27,13 +27,16 @@ public:
         double skin = 0;         // m
         double cutoff_scale = 1; // multiple of R_i + R_j
         bool keep_history = true;
+        double cutoff_extra = 0; // m added to the interaction range (e.g. a magnetic range beyond contact)
     };
 
     NeighborList() = default;
     explicit NeighborList(Settings s) : settings_(s) {}
 
     const Settings& settings() const { return settings_; }
-    double pair_cutoff(double ri, double rj) const { return settings_.cutoff_scale * (ri + rj) + settings_.skin; }
+    // Range within which a pair interacts, and the list cutoff (that range plus the skin).
+    double interaction_range(double ri, double rj) const { return settings_.cutoff_scale * (ri + rj) + settings_.cutoff_extra; }
+    double pair_cutoff(double ri, double rj) const { return interaction_range(ri, rj) + settings_.skin; }
 
     // Wraps positions into the periodic box, bins grains and rebuilds the list, carrying the
     // history of pairs that are still listed. Throws std::runtime_error when a periodic box is
@@ -55,9 +58,9 @@ public:
     // is apart: a one-byte flag instead of a 48-byte write for each of the many listed pairs
     // that do not touch.
     std::vector<std::uint8_t> touching;
-    // (R_i + R_j)^2 per pair, stored so the contact test reads the list sequentially instead of
-    // fetching the partner's radius from a random address.
-    std::vector<double> contact_distance_sq;
+    // interaction_range(R_i, R_j)^2 per pair ((R_i + R_j)^2 for contacts), stored so the range
+    // test reads the list sequentially instead of fetching the partner's radius.
+    std::vector<double> range_sq;
     const Vec3& image_shift(std::uint8_t code) const { return shifts_[code]; }
 
     std::size_t pair_count() const { return partners.size(); }

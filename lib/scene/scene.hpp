@@ -62,6 +62,7 @@ struct Scene {
 struct BuildOptions {
     bool insert_grains = true;  // false when a checkpoint supplies the grains
     int threads = 1;
+    std::string base_directory;  // relative file names in the scene (field maps) are taken from here
 };
 
 // Reads and checks a scene; throws SceneError (path + expectation) before any work on bad input.

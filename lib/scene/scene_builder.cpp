@@ -45,6 +45,17 @@ Material read_material(SceneNode node) {
     m.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
     m.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative());
     m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::non_negative());
+    m.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7));
+    m.saturation_magnetisation = node.quantity("saturation_magnetisation", units::magnetic_field, 1.7e6, Bounds::positive());
+    m.remanent_magnetisation = node.quantity("remanent_magnetisation", units::magnetic_field, 0.0, Bounds::non_negative());
+    if (node.has("remanence_direction") && node.raw("remanence_direction").is_array()) {
+        const Vec3 d = node.vector("remanence_direction", units::dimensionless, std::nullopt);
+        if (norm(d) == 0) node.fail("remanence_direction", "must be a non-zero vector, or \"random\"");
+        m.remanence_direction = d / norm(d);
+        m.random_remanence_direction = false;
+    } else {
+        node.choice("remanence_direction", {"random"}, "random");
+    }
     node.finish();
     return m;
 }
@@ -56,6 +67,25 @@ void read_contact(SceneNode node, PhysicsSettings& ph) {
     const std::string cohesion = node.choice("cohesion", {"none", "sjkr", "dmt"}, "none");
     ph.cohesion = cohesion == "sjkr" ? CohesionModel::sjkr : cohesion == "dmt" ? CohesionModel::dmt : CohesionModel::none;
     node.finish();
+}
+
+// Induced coefficient (eq. 2.4), saturation cap and permanent moment of a grain.
+void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng& rng) {
+    const double r = p.radius[i];
+    const double volume = 4.0 / 3.0 * M_PI * r * r * r;
+    const double mu = m.relative_permeability;
+    p.induced_coefficient[i] = 4.0 * M_PI * r * r * r * (mu - 1.0) / (mu + 2.0);
+    p.saturation_moment[i] = m.saturation_magnetisation * volume;
+    p.orientation[i] = Quaternion{};
+    if (m.remanent_magnetisation > 0) {
+        Vec3 dir = m.remanence_direction;
+        if (m.random_remanence_direction) {  // uniform on the sphere
+            const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, 2.0 * M_PI);
+            const double rho = std::sqrt(1.0 - z * z);
+            dir = {rho * std::cos(phi), rho * std::sin(phi), z};
+        }
+        p.permanent_moment[i] = dir * (m.remanent_magnetisation * volume);
+    }
 }
 
 // One batch of grains: a material, a size distribution, a placement and initial motion.
@@ -134,9 +164,11 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     node.finish();
 
     Particles& p = s.particles;
+    const Material& material = s.materials[mat];
     for (const Sphere& sp : spheres) {
-        const std::size_t i = p.add(sp.centre, sp.radius, s.materials[mat].density, mat);
+        const std::size_t i = p.add(sp.centre, sp.radius, material.density, mat);
         p.id[i] = i;
+        set_magnetic_constants(material, p, i, rng);
         Vec3 v = v0;
         if (random_speed > 0)
             for (int k = 0; k < 3; ++k) v[k] += rng.uniform(-random_speed, random_speed);
@@ -228,6 +260,58 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     return st;
 }
 
+void read_magnetic(SceneNode node, System& s, const BuildOptions& options) {
+    MagneticModel& mag = s.magnetic;
+    mag.enabled = true;
+    SceneNode field = node.object("field");
+    const std::string type = field.choice("type", {"uniform", "map"}, "uniform");
+    if (type == "uniform") {
+        const Vec3 b = field.vector("flux_density", units::magnetic_flux_density, std::nullopt);
+        const double on = field.quantity("switch_on", units::time, 0.0, Bounds::non_negative());
+        const double ramp = field.quantity("ramp", units::time, 0.0, Bounds::non_negative());
+        const double off = field.quantity("switch_off", units::time, std::numeric_limits<double>::max(), Bounds::positive());
+        if (!(off > on)) field.fail("switch_off", "must come after switch_on");
+        mag.field = std::make_shared<UniformField>(b, on, ramp, off);
+    } else {
+        std::string file = field.text("file", std::nullopt);
+        if (!file.empty() && file[0] != '/' && !options.base_directory.empty()) file = options.base_directory + "/" + file;
+        field.resolved_child("file") = file;  // as resolved, so a checkpoint finds it from anywhere
+        const double scale = field.number("scale", 1.0, Bounds::any());
+        try {
+            mag.field = std::make_shared<FieldMap>(FieldMap::read(file, scale));
+        } catch (const std::exception& e) {
+            field.fail("file", std::string(e.what()) + " (write one with `mrjam magnetics SCENE --field-map FILE`)");
+        }
+    }
+    field.finish();
+    MagneticSettings& st = mag.settings;
+    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
+    st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
+              : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
+    st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
+    st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
+    st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
+    if (auto cut = node.optional_object("cutoff")) {
+        const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
+        if (given != 1) cut->fail("diameters", "give exactly one of 'diameters', 'beyond_contact' or 'length'");
+        if (cut->has("diameters")) {
+            st.cutoff_scale = cut->number("diameters", std::nullopt, Bounds::closed(1.0, 100.0));
+        } else if (cut->has("beyond_contact")) {
+            st.cutoff_scale = 1.0;
+            st.cutoff_extra = cut->quantity("beyond_contact", units::length, std::nullopt, Bounds::non_negative());
+        } else {
+            st.cutoff_scale = 0.0;
+            st.cutoff_extra = cut->quantity("length", units::length, std::nullopt, Bounds::positive());
+        }
+        cut->finish();
+    } else {
+        // Three diameters of the pair (the source's choice in chapter 4).
+        st.cutoff_scale = 3.0;
+        node.resolved_child("cutoff") = {{"diameters", 3.0}};
+    }
+    node.finish();
+}
+
 void read_output(SceneNode node, OutputPlan& out) {
     out.directory = node.text("directory", ".");
     if (auto snap = node.optional_object("snapshots")) {
@@ -294,6 +378,8 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         s.physics.gravity_acceleration = root.vector("gravity", units::acceleration, std::nullopt);
     }
 
+    if (auto mag = root.optional_object("magnetic")) read_magnetic(*mag, s, options);
+
     std::vector<std::string> wall_names;
     for (auto w : root.objects("walls")) {
         s.walls.push_back(read_wall(w, names));
@@ -352,7 +438,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
 
 void choose_timestep(Scene& scene) {
     System& s = scene.system;
-    const Particles& p = s.particles;
+    Particles& p = s.particles;
     if (p.size() == 0) throw SceneError("/grains", "no grains were placed; check the placement regions and sizes");
     double r_sum = 0, r_max = 0;
     for (double r : p.radius) { r_sum += r; r_max = std::max(r_max, r); }
@@ -363,6 +449,22 @@ void choose_timestep(Scene& scene) {
             throw SceneError("/domain/hi", "the box is too short along the periodic axis " + std::string(1, char('x' + k)) +
                                                ": it must be more than twice the neighbour cutoff of the largest grains (" +
                                                fmt(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
+
+    if (s.magnetic.enabled) {
+        const MagneticSettings& ms = s.magnetic.settings;
+        s.magnetic.pairs = NeighborList(NeighborList::Settings{skin, ms.cutoff_scale, false, ms.cutoff_extra});
+        if (s.magnetic.pairs.interaction_range(r_max, r_max) < 2 * r_max)
+            throw SceneError("/magnetic/cutoff", "the magnetic range (" + fmt(s.magnetic.pairs.interaction_range(r_max, r_max)) +
+                                                     " m for the largest grains) is shorter than contact; it must reach at least the touching neighbours");
+        for (int k = 0; k < 3; ++k)
+            if (s.domain.periodic[k] && s.magnetic.pairs.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
+                throw SceneError("/magnetic/cutoff", "the magnetic cutoff of the largest grains (" +
+                                                         fmt(s.magnetic.pairs.pair_cutoff(r_max, r_max)) + " m with the skin) exceeds half the periodic box along " +
+                                                         std::string(1, char('x' + k)) + "; shorten the cutoff or enlarge the box");
+        s.magnetic.any_permanent = false;
+        for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
+        initialise_moments(s.magnetic, s.particles, s.time);
+    }
 
     scene.limits = timestep_limits(s, scene.characteristic_speed);
     if (scene.requested_timestep > 0) {

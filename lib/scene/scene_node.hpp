@@ -78,6 +78,9 @@ public:
     std::optional<SceneNode> optional_object(const std::string& key);
     std::vector<SceneNode> objects(const std::string& key, bool required = false);
 
+    // The resolved (echoed) value of a key, for defaults that are whole objects.
+    json& resolved_child(const std::string& key) { seen_.insert(key); return (*out_)[key]; }
+
     // The raw value for pass-through data (e.g. a table), marked as read.
     const json& raw(const std::string& key);
 
