@@ -7,6 +7,9 @@
 // grains at a range of steps per contact, measuring the restitution the integrator realises
 // against the set e and the undamped contact duration against Hertz; then what the automatic
 // step costs for the same pair. docs/accuracy.md shows and explains the table.
+//
+// `mrjam bench magnetic` and `bench magnetic-accuracy` live in bench_magnetic.cpp
+// (docs/magnetic_forces.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -394,6 +397,8 @@ void add_bench_command(CLI::App& app, int& exit_status) {
         run_restitution_bench(*restitution_json);
         exit_status = 0;
     });
+
+    add_magnetic_bench_commands(*bench, exit_status);
 }
 
 }  // namespace mrjam::cli

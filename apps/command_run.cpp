@@ -10,6 +10,7 @@
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
 #include "run/runner.hpp"
+#include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 
 namespace mrjam::cli {
@@ -21,6 +22,7 @@ struct RunArgs {
     std::string resume;
     int threads = 1;
     bool quiet = false;
+    std::string fidelity = "standard";
 };
 }  // namespace
 
@@ -32,11 +34,14 @@ void add_run_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--resume", args->resume, "Continue from a checkpoint written by an earlier run");
     cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
+    cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+        ->check(CLI::IsMember(fidelity_tier_names()))->capture_default_str();
     cmd->callback([args, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("run", "give a SCENE file, or --resume CHECKPOINT (not both)");
         BuildOptions build;
         build.threads = args->threads;
+        build.fidelity = args->fidelity;
         Scene scene;
         ProtocolPosition start;
         nlohmann::json resumed_stage_log;

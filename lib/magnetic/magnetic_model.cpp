@@ -10,11 +10,6 @@ namespace {
 
 constexpr double kInvFourPi = 1.0 / (4.0 * M_PI);
 
-// Field of dipole m at separation r (from the dipole to the point), A/m.
-inline Vec3 dipole_field(const Vec3& m, const Vec3& rhat, double inv_r3) {
-    return (rhat * (3.0 * dot(m, rhat)) - m) * (kInvFourPi * inv_r3);
-}
-
 // The moment a grain takes in local field h: permanent part plus the induced part, capped.
 inline Vec3 moment_in(const Particles& p, std::size_t i, const Vec3& h) {
     Vec3 induced = h * p.induced_coefficient[i];
@@ -24,81 +19,98 @@ inline Vec3 moment_in(const Particles& p, std::size_t i, const Vec3& h) {
 }
 
 struct Buffers {
-    std::vector<std::vector<Vec3>> force, torque, field;
+    std::vector<std::vector<Vec3>> force, torque, field;  // threads 1..n-1; thread 0 writes in place
 };
 
-// One pass over the magnetic pairs. Always sums the neighbour field at every grain; with
-// `with_forces` also the pair forces (eq. 4.8) and, for permanent grains, the torques.
-void pair_pass(MagneticModel& model, const Particles& p, int threads, bool with_forces, Buffers& b) {
+// One pass over the magnetic pairs. Always sums the neighbour field at every grain (into
+// model.neighbour_field); with `with_forces` also adds the pair forces (eq. 4.8) to p.force and,
+// when any grain is permanent, the pair torques to `torque`.
+template <bool WithForces, bool WithTorques>
+void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std::vector<Vec3>& torque) {
     const std::size_t n = p.size();
     const NeighborList& list = model.pairs;
     const int nt = std::max(1, threads);
     b.field.resize(nt);
-    if (with_forces) { b.force.resize(nt); b.torque.resize(nt); }
+    b.force.resize(nt);
+    b.torque.resize(nt);
+    model.neighbour_field.assign(n, Vec3{});
+    if (WithTorques) torque.assign(n, Vec3{});
 #pragma omp parallel num_threads(nt)
     {
         const int tid = omp_get_thread_num();
-        b.field[tid].assign(n, Vec3{});
-        Vec3* h = b.field[tid].data();
-        Vec3* f = nullptr;
-        Vec3* t = nullptr;
-        if (with_forces) {
-            b.force[tid].assign(n, Vec3{});
-            b.torque[tid].assign(n, Vec3{});
-            f = b.force[tid].data();
-            t = b.torque[tid].data();
+        // Thread 0 accumulates straight into the shared arrays, the others into private buffers
+        // summed below in thread order (deterministic for a given thread count).
+        Vec3* __restrict h = model.neighbour_field.data();
+        Vec3* __restrict f = p.force.data();
+        Vec3* __restrict t = torque.data();
+        if (tid > 0) {
+            b.field[tid].assign(n, Vec3{});
+            h = b.field[tid].data();
+            if (WithForces) { b.force[tid].assign(n, Vec3{}); f = b.force[tid].data(); }
+            if (WithTorques) { b.torque[tid].assign(n, Vec3{}); t = b.torque[tid].data(); }
         }
-        const Vec3* x = p.position.data();
-        const Vec3* m = p.dipole_moment.data();
+        const Vec3* __restrict x = p.position.data();
+        const Vec3* __restrict m = p.dipole_moment.data();
+        const std::uint32_t* __restrict offsets = list.offsets.data();
+        const std::uint32_t* __restrict partners = list.partners.data();
+        const std::uint8_t* __restrict image = list.image.data();
+        const double* __restrict range_sq = list.range_sq.data();
         const std::size_t begin = n * tid / nt, end = n * (tid + 1) / nt;
         for (std::size_t i = begin; i < end; ++i) {
             const Vec3 xi = x[i], mi = m[i];
-            Vec3 hi{}, fi{};
-            for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-                const std::uint32_t j = list.partners[k];
-                const Vec3 d = xi - x[j] + list.image_shift(list.image[k]);
+            Vec3 hi{}, fi{}, ti{};
+            for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+                const std::uint32_t j = partners[k];
+                const Vec3 d = xi - x[j] + list.image_shift(image[k]);
                 const double r2 = norm2(d);
-                if (r2 >= list.range_sq[k]) continue;
+                if (r2 >= range_sq[k]) continue;
                 const double inv_r = 1.0 / std::sqrt(r2);
                 const Vec3 rhat = d * inv_r;  // from j to i
                 const double inv_r3 = inv_r * inv_r * inv_r;
-                const Vec3& mj = m[j];
-                const Vec3 h_at_i = dipole_field(mj, rhat, inv_r3);
-                const Vec3 h_at_j = dipole_field(mi, rhat, inv_r3);  // the field is even in rhat
+                const Vec3 mj = m[j];
+                const double mi_r = dot(mi, rhat), mj_r = dot(mj, rhat);
+                // Dipole fields (even in rhat): at i from j, at j from i.
+                const double c = kInvFourPi * inv_r3;
+                const Vec3 h_at_i = (rhat * (3.0 * mj_r) - mj) * c;
+                const Vec3 h_at_j = (rhat * (3.0 * mi_r) - mi) * c;
                 hi += h_at_i;
                 h[j] += h_at_j;
-                if (with_forces) {
-                    const double mi_r = dot(mi, rhat), mj_r = dot(mj, rhat);
-                    const Vec3 force = (mj * mi_r + mi * mj_r + rhat * dot(mi, mj) - rhat * (5.0 * mi_r * mj_r)) *
-                                       (3.0 * kMu0 * kInvFourPi * inv_r3 * inv_r);
+                if constexpr (WithForces) {
+                    const Vec3 force = (mj * mi_r + mi * mj_r + rhat * (dot(mi, mj) - 5.0 * mi_r * mj_r)) *
+                                       (3.0 * kMu0 * c * inv_r);
                     fi += force;
                     f[j] -= force;
-                    if (model.any_permanent) {
-                        t[i] += cross(mi, h_at_i) * kMu0;
-                        t[j] += cross(mj, h_at_j) * kMu0;
-                    }
+                }
+                if constexpr (WithTorques) {
+                    ti += cross(mi, h_at_i) * kMu0;
+                    t[j] += cross(mj, h_at_j) * kMu0;
                 }
             }
             h[i] += hi;
-            if (with_forces) f[i] += fi;
+            if constexpr (WithForces) f[i] += fi;
+            if constexpr (WithTorques) t[i] += ti;
+        }
+#pragma omp barrier
+        for (int other = 1; other < nt; ++other) {
+            for (std::size_t i = begin; i < end; ++i) {
+                model.neighbour_field[i] += b.field[other][i];
+                if (WithForces) p.force[i] += b.force[other][i];
+                if (WithTorques) torque[i] += b.torque[other][i];
+            }
         }
     }
-    // Sum the thread buffers into the first, in thread order (deterministic).
-    for (int tid = 1; tid < nt; ++tid)
-        for (std::size_t i = 0; i < n; ++i) {
-            b.field[0][i] += b.field[tid][i];
-            if (with_forces) { b.force[0][i] += b.force[tid][i]; b.torque[0][i] += b.torque[tid][i]; }
-        }
-    model.neighbour_field.swap(b.field[0]);
 }
 
+// New moments from the applied field and the last neighbour field; returns max |dm| / max |m|.
 // New moments from the applied field and the last neighbour field; returns max |dm| / max |m|.
 double update_moments(const MagneticModel& model, Particles& p, double time, bool with_neighbours, int threads) {
     double max_change = 0, max_moment = 0;
     const std::size_t n = p.size();
+    const bool uniform = model.field->uniform();
+    const Vec3 h_uniform = uniform ? model.field->flux_density(Vec3{}, time) * (1.0 / kMu0) : Vec3{};
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) reduction(max : max_change, max_moment)
     for (std::size_t i = 0; i < n; ++i) {
-        Vec3 h = model.field->flux_density(p.position[i], time) * (1.0 / kMu0);
+        Vec3 h = uniform ? h_uniform : model.field->flux_density(p.position[i], time) * (1.0 / kMu0);
         if (with_neighbours) h += model.neighbour_field[i];
         const Vec3 m = moment_in(p, i, h);
         max_change = std::max(max_change, norm(m - p.dipole_moment[i]));
@@ -117,6 +129,7 @@ void initialise_moments(const MagneticModel& model, Particles& p, double time) {
 
 void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int threads) {
     static thread_local Buffers buffers;
+    static thread_local std::vector<Vec3> torque;
     const MagneticSettings& s = model.settings;
     const std::size_t n = p.size();
     // Moments for this step's forces.
@@ -124,36 +137,35 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
         update_moments(model, p, time, false, threads);
     } else if (s.policy == MutualPolicy::iterations) {
         for (int k = 0; k < s.iterations; ++k) {
-            pair_pass(model, p, threads, false, buffers);
+            pair_pass<false, false>(model, p, threads, buffers, torque);
             update_moments(model, p, time, true, threads);
             ++model.field_passes;
         }
     } else if (s.policy == MutualPolicy::converged) {
         for (int k = 0; k < s.max_iterations; ++k) {
-            pair_pass(model, p, threads, false, buffers);
+            pair_pass<false, false>(model, p, threads, buffers, torque);
             ++model.field_passes;
             if (update_moments(model, p, time, true, threads) < s.tolerance) break;
         }
     }
     // Forces; for the lagged policy the same pass gives the neighbour field of the next moments.
-    pair_pass(model, p, threads, true, buffers);
+    if (model.any_permanent) pair_pass<true, true>(model, p, threads, buffers, torque);
+    else pair_pass<true, false>(model, p, threads, buffers, torque);
     ++model.force_passes;
     if (s.policy == MutualPolicy::lagged) ++model.field_passes;
-    const Vec3* f = buffers.force[0].data();
-    const Vec3* t = buffers.torque[0].data();
-    for (std::size_t i = 0; i < n; ++i) {
-        p.force[i] += f[i];
-        // Only a permanent moment turns its grain; an induced one follows the field instead.
-        const bool permanent = norm2(p.permanent_moment[i]) > 0;
-        if (permanent) p.torque[i] += t[i];
-        if (model.field->uniform() && !model.any_permanent) continue;
-        const Vec3 b = model.field->flux_density(p.position[i], time);
-        if (permanent) p.torque[i] += cross(p.dipole_moment[i], b);  // m x B_ext (eq. 4.7)
-        if (!model.field->uniform()) {
-            // grad(m . B_ext) with m held fixed (eq. 4.6): F_k = sum_l m_l dB_l/dx_k.
-            const Gradient g = model.field->gradient(p.position[i], time);
+
+    if (model.any_permanent || !model.field->uniform()) {
+        for (std::size_t i = 0; i < n; ++i) {
             const Vec3& m = p.dipole_moment[i];
-            for (int k = 0; k < 3; ++k) p.force[i][k] += m.x * g[0][k] + m.y * g[1][k] + m.z * g[2][k];
+            if (model.any_permanent && norm2(p.permanent_moment[i]) > 0) {
+                // Only a permanent moment turns its grain; an induced one follows the field.
+                p.torque[i] += torque[i] + cross(m, model.field->flux_density(p.position[i], time));  // eqs. 4.7, 4.9
+            }
+            if (!model.field->uniform()) {
+                // grad(m . B_ext) with m held fixed (eq. 4.6): F_k = sum_l m_l dB_l/dx_k.
+                const Gradient g = model.field->gradient(p.position[i], time);
+                for (int k = 0; k < 3; ++k) p.force[i][k] += m.x * g[0][k] + m.y * g[1][k] + m.z * g[2][k];
+            }
         }
     }
     if (s.policy == MutualPolicy::lagged) update_moments(model, p, time, true, threads);

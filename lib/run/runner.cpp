@@ -137,6 +137,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     report["seed"] = scene.seed;
     report["threads"] = s.threads;
     report["inputs"] = scene.resolved;
+    report["fidelity"] = scene.fidelity;
     report["timestep"] = timestep_json(scene);
     report["warnings"] = scene.warnings;
     nlohmann::json stage_log =

@@ -55,6 +55,7 @@ struct Scene {
     double skin_fraction = 0.1;     // Verlet skin as a fraction of the mean diameter
     TimestepLimits limits;
     json resolved;                  // the scene with every default filled in, SI numbers
+    json fidelity;                  // the tier and the defaults it implied
     std::vector<std::string> warnings;
     long total_steps() const;
 };
@@ -63,6 +64,7 @@ struct BuildOptions {
     bool insert_grains = true;  // false when a checkpoint supplies the grains
     int threads = 1;
     std::string base_directory;  // relative file names in the scene (field maps) are taken from here
+    std::string fidelity = "standard";  // tier whose defaults apply (scene settings win)
 };
 
 // Reads and checks a scene; throws SceneError (path + expectation) before any work on bad input.

@@ -5,6 +5,7 @@
 
 #include "geometry/packing.hpp"
 #include "scene/scene.hpp"
+#include "scene/fidelity.hpp"
 #include "scene/scene_parts.hpp"
 #include "spatial_sort.hpp"
 
@@ -260,7 +261,7 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     return st;
 }
 
-void read_magnetic(SceneNode node, System& s, const BuildOptions& options) {
+void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier) {
     MagneticModel& mag = s.magnetic;
     mag.enabled = true;
     SceneNode field = node.object("field");
@@ -285,7 +286,10 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options) {
     }
     field.finish();
     MagneticSettings& st = mag.settings;
-    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
+    const char* tier_policy = tier.magnetic_policy == MutualPolicy::fixed ? "fixed"
+                              : tier.magnetic_policy == MutualPolicy::lagged ? "lagged"
+                              : tier.magnetic_policy == MutualPolicy::iterations ? "iterations" : "converged";
+    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, tier_policy);
     st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
               : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
     st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
@@ -305,9 +309,8 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options) {
         }
         cut->finish();
     } else {
-        // Three diameters of the pair (the source's choice in chapter 4).
-        st.cutoff_scale = 3.0;
-        node.resolved_child("cutoff") = {{"diameters", 3.0}};
+        st.cutoff_scale = tier.magnetic_cutoff_diameters;
+        node.resolved_child("cutoff") = {{"diameters", st.cutoff_scale}};
     }
     node.finish();
 }
@@ -378,7 +381,15 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         s.physics.gravity_acceleration = root.vector("gravity", units::acceleration, std::nullopt);
     }
 
-    if (auto mag = root.optional_object("magnetic")) read_magnetic(*mag, s, options);
+    const FidelityTier* tier_ptr = nullptr;
+    try {
+        tier_ptr = &fidelity_tier(options.fidelity);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError("--fidelity", e.what());
+    }
+    const FidelityTier& tier = *tier_ptr;
+    scene.fidelity = describe(tier);
+    if (auto mag = root.optional_object("magnetic")) read_magnetic(*mag, s, options, tier);
 
     std::vector<std::string> wall_names;
     for (auto w : root.objects("walls")) {
@@ -388,7 +399,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
 
     SceneNode run = root.object("run");
     scene.characteristic_speed = run.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
-    scene.timestep_safety = run.number("timestep_safety", 0.1, Bounds::open_closed(0.0, kMaxStepFraction));
+    scene.timestep_safety = run.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, kMaxStepFraction));
     if (run.has("timestep") && run.raw("timestep").is_string() && run.raw("timestep").get<std::string>() == "auto") {
         scene.requested_timestep = 0;
     } else {

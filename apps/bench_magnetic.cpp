@@ -1,0 +1,643 @@
+// `mrjam bench magnetic`: the cost of a chain-forming magnetorheological scene (the issue's
+// scene: 1,905 monodisperse 6.7 um iron grains at volume fraction 0.3 in a 100 um box, 600 mT
+// along z, lagged mutual dipoles, magnetic range 8 um beyond contact). Chains form first
+// (untimed), then a fixed number of steps is timed; prints core-microseconds per grain-step.
+//
+// `mrjam bench magnetic-accuracy`: the speed/accuracy trade of the mutual-dipole policy and the
+// magnetic cutoff. Chains form once in a polydisperse scene; from that saved state each setting
+// is (a) evaluated once at the same configuration and (b) stepped on for K steps, and its mean
+// magnetic force per grain and magnetic virial stress are compared against the converged policy
+// at the longest cutoff. docs/magnetic_forces.md shows and explains the tables.
+//
+// The magnetic observers here (per-grain pair-force sum, virial stress) are computed from the
+// public state (positions, dipole moments, the magnetic pair list) with eq. 4.8, rhat from j to
+// i for the force on i, independently of lib/magnetic; the same-configuration pass checks them
+// against the forces add_magnetic_forces() applies.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "geometry/size_distribution.hpp"
+#include "integrator.hpp"
+#include "magnetic/magnetic_model.hpp"
+#include "observers.hpp"
+#include "run/runner.hpp"
+#include "scene/scene.hpp"
+#include "timestep.hpp"
+
+namespace mrjam::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// ---- scenes -----------------------------------------------------------------------------------
+
+constexpr double kDiameter = 6.7e-6;  // m, the source's monodisperse grains
+constexpr double kVolumeFraction = 0.3;
+
+// Chapter 2 iron in silicone oil (examples/chains_600mT.json). The relative permeability (1000)
+// and saturation magnetisation (1.7e6 A/m) are the scene defaults, written out for the record.
+nlohmann::json iron_material() {
+    return {{"name", "iron"},
+            {"density", "7800 kg/m3"},
+            {"youngs_modulus", "1 GPa"},
+            {"poisson_ratio", 0.278},
+            {"restitution", 0.1},
+            {"friction", 0.1},
+            {"rolling_friction", 0.1},
+            {"rolling_damping", 0.1},
+            {"cohesion_energy_density", "60 kJ/m3"},
+            {"relative_permeability", 1000},
+            {"saturation_magnetisation", "1.7e6 A/m"}};
+}
+
+nlohmann::json mr_scene(const std::string& description, double lx, double ly, double lz, const nlohmann::json& size,
+                        const nlohmann::json& cutoff) {
+    return {
+        {"description", description},
+        {"seed", 11},
+        {"domain", {{"lo", {0, 0, 0}}, {"hi", {lx, ly, lz}}, {"periodic", "xy"}}},
+        {"materials", {iron_material()}},
+        {"contact", {{"model", "hertz_mindlin"}, {"rolling", "epsd"}, {"cohesion", "sjkr"}}},
+        {"fluid", {{"viscosity", "10 mPa s"}}},
+        {"magnetic", {{"field", {{"type", "uniform"}, {"flux_density", {0, 0, "600 mT"}}}},
+                      {"mutual", "lagged"},
+                      {"cutoff", cutoff}}},
+        {"walls", {{{"name", "bottom"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
+                   {{"name", "top"}, {"type", "plane"}, {"point", {0, 0, lz}}, {"normal", {0, 0, -1}}}}},
+        {"grains", {{{"material", "iron"}, {"size", size},
+                     {"placement", {{"method", "random"}, {"volume_fraction", kVolumeFraction}}}}}},
+        {"run", {{"timestep", "0.2 ns"}, {"steps", 1}}},
+    };
+}
+
+// The scene (chapter 2's monodisperse 6.7 um runs, 8 um magnetic neighbour length).
+nlohmann::json magnetic_bench_scene() {
+    const double side = 100e-6;
+    return mr_scene("magnetic benchmark: 6.7 um iron grains, phi 0.3, 600 mT along z, lagged mutual dipoles, "
+                    "magnetic range 8 um beyond contact",
+                    side, side, side, {{"distribution", "single"}, {"diameter", "6.7 um"}},
+                    {{"beyond_contact", "8 um"}});
+}
+
+// ---- observers (read-only) --------------------------------------------------------------------
+
+// Mean |cos| of the grain-grain contact normals to z, and the number of such contacts.
+double contact_alignment(const System& s, std::size_t* contacts_out = nullptr) {
+    const Particles& p = s.particles;
+    const NeighborList& list = s.contacts;
+    double sum = 0;
+    std::size_t contacts = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i)
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[k]) continue;
+            sum += std::fabs(d.z) / std::sqrt(r2);
+            ++contacts;
+        }
+    if (contacts_out) *contacts_out = contacts;
+    return contacts ? sum / static_cast<double>(contacts) : 0.0;
+}
+
+// Magnetic pairs closer than their interaction range (the pairs that contribute).
+std::size_t magnetic_pairs_in_range(const Particles& p, const NeighborList& list) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i)
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const Vec3 d = p.position[i] - p.position[list.partners[k]] + list.image_shift(list.image[k]);
+            count += norm2(d) < list.range_sq[k];
+        }
+    return count;
+}
+
+struct MagneticObservation {
+    std::vector<Vec3> force;      // sum of the dipole-dipole pair forces on each grain, N
+    double mean_force = 0;        // mean over grains of |force|, N
+    double sigma_xx = 0, sigma_yy = 0, sigma_zz = 0;  // (1/V) sum over pairs of r_k F_k, Pa
+    std::size_t pairs_in_range = 0;
+};
+
+// Eq. 4.8 for every listed pair within range, with the moments m: F on i, rhat from j to i,
+// F_i = 3 mu0 / (4 pi r^4) [m_j (m_i.rhat) + m_i (m_j.rhat) + rhat (m_i.m_j) - 5 rhat (m_i.rhat)(m_j.rhat)].
+// r = x_i - x_j, so (1/V) sum r F is the virial of the pair forces: negative along z for the
+// attraction of head-to-tail dipoles (a tensile contribution in the convention where
+// compression is positive, i.e. sigma_cauchy = -(1/V) sum r F).
+MagneticObservation observe_magnetic(const Particles& p, const NeighborList& list, const std::vector<Vec3>& m,
+                                     double volume) {
+    MagneticObservation out;
+    const std::size_t n = p.size();
+    out.force.assign(n, Vec3{});
+    constexpr double k = 3.0 * kMu0 / (4.0 * M_PI);
+    double sxx = 0, syy = 0, szz = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::uint32_t q = list.offsets[i]; q < list.offsets[i + 1]; ++q) {
+            const std::uint32_t j = list.partners[q];
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[q]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[q]) continue;
+            const double r = std::sqrt(r2);
+            const Vec3 e = d / r;
+            const Vec3& mi = m[i];
+            const Vec3& mj = m[j];
+            const double mie = dot(mi, e), mje = dot(mj, e);
+            const Vec3 f = (mj * mie + mi * mje + e * dot(mi, mj) - e * (5.0 * mie * mje)) * (k / (r2 * r2));
+            out.force[i] += f;
+            out.force[j] -= f;
+            sxx += d.x * f.x;
+            syy += d.y * f.y;
+            szz += d.z * f.z;
+            ++out.pairs_in_range;
+        }
+    double sum = 0;
+    for (const Vec3& f : out.force) sum += norm(f);
+    out.mean_force = n ? sum / static_cast<double>(n) : 0.0;
+    out.sigma_xx = sxx / volume;
+    out.sigma_yy = syy / volume;
+    out.sigma_zz = szz / volume;
+    return out;
+}
+
+double domain_volume(const Domain& d) {
+    const Vec3 l = d.length();
+    return l.x * l.y * l.z;
+}
+
+// Steps with a progress line on stderr every ~5 s (untimed phases). `extra` adds to the line.
+void run_with_progress(System& s, long steps, const char* label, const std::function<std::string(const System&)>& extra) {
+    const auto t0 = Clock::now();
+    auto last = t0;
+    long done = 0, chunk = 50;
+    while (done < steps) {
+        const long c = std::min(chunk, steps - done);
+        const auto a = Clock::now();
+        advance_steps(s, c);
+        done += c;
+        const double took = seconds_since(a);
+        if (took < 0.2) chunk = std::min<long>(chunk * 2, 1000000);
+        else if (took > 1.0 && chunk > 1) chunk /= 2;
+        if (seconds_since(last) > 5.0 && done < steps) {
+            const double el = seconds_since(t0);
+            std::fprintf(stderr, "  %s: step %ld of %ld (%.0f%%), %.0f s elapsed, ~%.0f s left%s\n", label, done, steps,
+                         100.0 * done / steps, el, el * (steps - done) / done, extra ? extra(s).c_str() : "");
+            last = Clock::now();
+        }
+    }
+}
+
+std::string alignment_note(const System& s) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, ", mean |cos| of contact normals to z %.3f, %.2f contacts per grain",
+                  contact_alignment(s), mean_coordination(s));
+    return buf;
+}
+
+// ---- bench magnetic ----------------------------------------------------------------------------
+
+struct MagneticBenchArgs {
+    long steps = 2000;
+    long settle_steps = 30000;
+    int threads = 1;
+    std::string json_out;
+};
+
+void run_magnetic_bench(const MagneticBenchArgs& args) {
+    BuildOptions build;
+    build.threads = args.threads;
+    const auto setup0 = Clock::now();
+    Scene scene = build_scene(magnetic_bench_scene(), build);
+    choose_timestep(scene);
+    System& s = scene.system;
+    prepare(s);
+    const double setup = seconds_since(setup0);
+    const std::size_t n = s.particles.size();
+    std::printf("bench magnetic: %zu grains of %.1f um, volume fraction %.2f, 100 um box periodic in x and y, "
+                "600 mT along z, lagged mutual dipoles, magnetic range 8 um beyond contact, dt %.3g s, %d thread(s)\n",
+                n, kDiameter * 1e6, kVolumeFraction, s.dt, args.threads);
+    std::fflush(stdout);
+
+    const auto settle0 = Clock::now();
+    run_with_progress(s, args.settle_steps, "settling (chains forming)", alignment_note);
+    const double settle = seconds_since(settle0);
+    const double cos_settled = contact_alignment(s);
+    std::printf("settled %ld steps (%.3g s simulated) in %.1f s: mean |cos| of contact normals to z %.3f\n",
+                args.settle_steps, s.time, settle, cos_settled);
+
+    const long builds0 = s.contacts.builds();
+    const long field0 = s.magnetic.field_passes, force0 = s.magnetic.force_passes;
+    const auto t0 = Clock::now();
+    advance_steps(s, args.steps);
+    const double wall = seconds_since(t0);
+    const double grain_steps = static_cast<double>(n) * static_cast<double>(args.steps);
+    const double core_us = wall * args.threads * 1e6 / grain_steps;
+
+    // The magnetic part alone: the same pass the step makes (lagged: one pair pass with forces,
+    // one moment update), repeated on a copy of the grains at the final state.
+    double magnetic_core_us = 0;
+    {
+        Particles q = s.particles;
+        MagneticModel model = s.magnetic;
+        const int reps = 200;
+        add_magnetic_forces(model, q, s.time, args.threads);  // warm the buffers
+        const auto m0 = Clock::now();
+        for (int r = 0; r < reps; ++r) add_magnetic_forces(model, q, s.time, args.threads);
+        magnetic_core_us = seconds_since(m0) * args.threads * 1e6 / (static_cast<double>(n) * reps);
+    }
+
+    const double listed = 2.0 * static_cast<double>(s.magnetic.pairs.pair_count()) / n;
+    const double within = 2.0 * static_cast<double>(magnetic_pairs_in_range(s.particles, s.magnetic.pairs)) / n;
+    const double contacts = mean_coordination(s);
+    const double cos_final = contact_alignment(s);
+    const double range = s.magnetic.pairs.interaction_range(0.5 * kDiameter, 0.5 * kDiameter);
+    double mean_moment = 0;
+    for (const Vec3& m : s.particles.dipole_moment) mean_moment += norm(m);
+    mean_moment /= n;
+    const double sat = s.particles.saturation_moment[0];
+
+    std::printf("timed %ld steps: %.3f core-us per grain-step, %.3g grain-steps/s (%.1f s wall); magnetic part alone "
+                "%.3f core-us per grain-step\n",
+                args.steps, core_us, grain_steps / wall, wall, magnetic_core_us);
+    std::printf("magnetic range %.2f um: %.2f listed magnetic neighbours per grain, %.2f within the range; %.2f "
+                "contacts per grain (walls counted once); mean |cos| of contact normals to z %.3f; mean |m| %.3f of "
+                "saturation; %ld list builds in the timed steps\n",
+                range * 1e6, listed, within, contacts, cos_final, mean_moment / sat, s.contacts.builds() - builds0);
+    std::printf("target <= 0.3 core-us per grain-step; the source's LIGGGHTS runs: 3.90 ms per step for ~30,000 "
+                "monodisperse 6.7 um grains on 18 cores = 2.3 core-us, 4.64 ms for ~12,000 polydisperse grains on 18 "
+                "cores = 7.0 core-us (section 2.4.3)\n");
+
+    if (!args.json_out.empty()) {
+        const nlohmann::json out = {
+            {"benchmark", "magnetic"},
+            {"grains", n},
+            {"diameter_m", kDiameter},
+            {"volume_fraction", kVolumeFraction},
+            {"threads", args.threads},
+            {"timestep_s", s.dt},
+            {"settle_steps", args.settle_steps},
+            {"settle_wall_s", settle},
+            {"steps", args.steps},
+            {"setup_s", setup},
+            {"wall_s", wall},
+            {"grain_steps_per_s", grain_steps / wall},
+            {"core_us_per_particle_step", core_us},
+            {"magnetic_only_core_us_per_particle_step", magnetic_core_us},
+            {"magnetic_range_m", range},
+            {"magnetic_listed_neighbours_per_grain", listed},
+            {"magnetic_neighbours_within_range_per_grain", within},
+            {"contacts_per_grain", contacts},
+            {"mean_abs_cos_contact_normal_z_after_settle", cos_settled},
+            {"mean_abs_cos_contact_normal_z_final", cos_final},
+            {"mean_moment_over_saturation", mean_moment / sat},
+            {"mutual_dipole_field_passes_per_step",
+             s.magnetic.force_passes > force0
+                 ? static_cast<double>(s.magnetic.field_passes - field0) / (s.magnetic.force_passes - force0)
+                 : 0.0},
+            {"neighbour_builds_timed", s.contacts.builds() - builds0},
+            {"simulated_time_s", s.time},
+            {"scene", scene.resolved},
+        };
+        write_json_file(args.json_out, out);
+    }
+}
+
+// ---- bench magnetic-accuracy -------------------------------------------------------------------
+
+struct AccuracyArgs {
+    long form_steps = 30000;
+    long steps = 300;       // K: steps each setting runs from the saved state
+    long replay_steps = 20; // trajectory steps replayed for the same-configuration moments
+    int threads = 2;
+    long grains = 2000;
+    std::string json_out;
+};
+
+struct Setting {
+    std::string label;
+    MutualPolicy policy;
+    int iterations = 1;
+    double tolerance = 1e-6;
+    double diameters = 5;
+};
+
+const char* policy_name(MutualPolicy p) {
+    switch (p) {
+        case MutualPolicy::fixed: return "fixed";
+        case MutualPolicy::lagged: return "lagged";
+        case MutualPolicy::iterations: return "iterations";
+        case MutualPolicy::converged: return "converged";
+    }
+    return "?";
+}
+
+void apply_setting(MagneticModel& model, const Setting& st, double skin) {
+    MagneticSettings& ms = model.settings;
+    ms.policy = st.policy;
+    ms.iterations = st.iterations;
+    ms.tolerance = st.tolerance;
+    ms.max_iterations = 500;
+    ms.cutoff_scale = st.diameters;
+    ms.cutoff_extra = 0;
+    model.pairs = NeighborList(NeighborList::Settings{skin, st.diameters, false, 0.0});
+    model.field_passes = 0;
+    model.force_passes = 0;
+}
+
+struct Measure {
+    MagneticObservation obs;
+    double core_us = std::numeric_limits<double>::quiet_NaN();
+    double field_passes_per_step = 0;
+    double neighbours_in_range = 0;  // per grain
+    double engine_mismatch = 0;      // max |F_engine - F_observer| / mean |F| (same-configuration pass)
+    double cos_final = 0;
+};
+
+struct Trajectory {
+    std::vector<std::vector<Vec3>> positions;  // x_{N-M} .. x_{N-1}
+    std::vector<double> times;
+    std::vector<Vec3> moments_at_start;        // the run's moments before the first replayed step
+};
+
+// Same configuration: the setting's moments are built along the recorded trajectory of the
+// formation run (the last M steps; each step calls add_magnetic_forces at that step's positions,
+// so lagged and k-iteration moments carry the history they would have had), then the forces are
+// evaluated once at the saved state's positions. Only the moments differ between settings.
+Measure same_configuration(const System& saved, const Trajectory& traj, const Setting& st, double skin, int threads) {
+    Particles q = saved.particles;
+    MagneticModel model = saved.magnetic;
+    apply_setting(model, st, skin);
+    q.dipole_moment = traj.moments_at_start;
+    for (std::size_t k = 0; k < traj.positions.size(); ++k) {
+        q.position = traj.positions[k];
+        model.pairs.build(q, saved.domain, threads);
+        std::fill(q.force.begin(), q.force.end(), Vec3{});
+        std::fill(q.torque.begin(), q.torque.end(), Vec3{});
+        add_magnetic_forces(model, q, traj.times[k], threads);
+    }
+    q.position = saved.particles.position;
+    model.pairs.build(q, saved.domain, threads);
+    std::fill(q.force.begin(), q.force.end(), Vec3{});
+    std::fill(q.torque.begin(), q.torque.end(), Vec3{});
+    const std::vector<Vec3> before = q.dipole_moment;
+    add_magnetic_forces(model, q, saved.time, threads);
+    // Lagged forces use the moments held before the call (it updates them afterwards).
+    const std::vector<Vec3>& used = st.policy == MutualPolicy::lagged ? before : q.dipole_moment;
+    Measure m;
+    m.obs = observe_magnetic(q, model.pairs, used, domain_volume(saved.domain));
+    double worst = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) worst = std::max(worst, norm(q.force[i] - m.obs.force[i]));
+    m.engine_mismatch = m.obs.mean_force > 0 ? worst / m.obs.mean_force : 0.0;
+    m.field_passes_per_step = mean_iterations(model);
+    m.neighbours_in_range = 2.0 * static_cast<double>(m.obs.pairs_in_range) / q.size();
+    return m;
+}
+
+// Stepped: a copy of the saved state switched to the setting runs K steps (timed, all forces);
+// the forces of the last step are measured.
+Measure stepped(const System& saved, const Setting& st, double skin, long steps, int threads) {
+    System s = saved;
+    s.threads = threads;
+    apply_setting(s.magnetic, st, skin);
+    prepare(s);
+    s.magnetic.field_passes = s.magnetic.force_passes = 0;
+    const auto t0 = Clock::now();
+    advance_steps(s, steps - 1);
+    const std::vector<Vec3> before = s.particles.dipole_moment;  // the lagged moments of the last step
+    advance_steps(s, 1);
+    const double wall = seconds_since(t0);
+    const std::vector<Vec3>& used = st.policy == MutualPolicy::lagged ? before : s.particles.dipole_moment;
+    Measure m;
+    m.obs = observe_magnetic(s.particles, s.magnetic.pairs, used, domain_volume(s.domain));
+    m.core_us = wall * threads * 1e6 / (static_cast<double>(s.particles.size()) * steps);
+    m.field_passes_per_step = mean_iterations(s.magnetic);
+    m.neighbours_in_range = 2.0 * static_cast<double>(m.obs.pairs_in_range) / s.particles.size();
+    m.cos_final = contact_alignment(s);
+    return m;
+}
+
+double percent(double x, double ref) { return 100.0 * (x - ref) / ref; }
+
+nlohmann::json measure_json(const Measure& m, const Measure& ref) {
+    nlohmann::json j = {{"mean_force_N", m.obs.mean_force},
+                        {"sigma_xx_Pa", m.obs.sigma_xx},
+                        {"sigma_yy_Pa", m.obs.sigma_yy},
+                        {"sigma_zz_Pa", m.obs.sigma_zz},
+                        {"mean_force_error_percent", percent(m.obs.mean_force, ref.obs.mean_force)},
+                        {"sigma_zz_error_percent", percent(m.obs.sigma_zz, ref.obs.sigma_zz)},
+                        {"sigma_xx_error_percent", percent(m.obs.sigma_xx, ref.obs.sigma_xx)},
+                        {"field_passes_per_step", m.field_passes_per_step},
+                        {"magnetic_neighbours_within_range_per_grain", m.neighbours_in_range}};
+    if (std::isfinite(m.core_us)) j["core_us_per_particle_step"] = m.core_us;
+    return j;
+}
+
+void run_accuracy_bench(const AccuracyArgs& args) {
+    // Polydisperse grains: number-weighted lognormal, median 6.7 um, sigma_ln 0.3, truncated at
+    // +-1.5 sigma (4.3 to 10.5 um). The box is periodic in x and y and must be more than twice
+    // the 8-diameter cutoff of the largest pair; z (walls) takes the height that holds the grains.
+    const double sigma = 0.3, trunc = 1.5;
+    const double dmin = kDiameter * std::exp(-trunc * sigma), dmax = kDiameter * std::exp(trunc * sigma);
+    const SizeDistribution sizes = SizeDistribution::lognormal(kDiameter, sigma, dmin, dmax);
+    const double skin_estimate = 0.1 * sizes.mean_diameter_number();
+    const double lxy = 2.0 * (8.0 * dmax + skin_estimate) * 1.03;
+    const double lz = static_cast<double>(args.grains) * sizes.mean_particle_volume() / (kVolumeFraction * lxy * lxy);
+    const nlohmann::json size = {{"distribution", "lognormal"}, {"median_diameter", kDiameter}, {"sigma_ln", sigma},
+                                 {"min_diameter", dmin}, {"max_diameter", dmax}};
+    BuildOptions build;
+    build.threads = args.threads;
+    Scene scene = build_scene(mr_scene("magnetic accuracy: polydisperse iron grains forming chains at 600 mT",
+                                       lxy, lxy, lz, size, {{"diameters", 5.0}}),
+                              build);
+    choose_timestep(scene);
+    System& s = scene.system;
+    const double skin = s.contacts.settings().skin;
+    const std::size_t n = s.particles.size();
+    const double volume = domain_volume(s.domain);
+    std::printf("bench magnetic-accuracy: %zu grains, lognormal median %.1f um, sigma_ln %.1f, truncated to %.2f-%.2f um; "
+                "box %.1f x %.1f x %.1f um (periodic x, y; walls in z); phi %.2f; 600 mT along z; dt %.3g s; %d "
+                "thread(s)\n",
+                n, kDiameter * 1e6, sigma, dmin * 1e6, dmax * 1e6, lxy * 1e6, lxy * 1e6, lz * 1e6, kVolumeFraction,
+                s.dt, args.threads);
+    std::fflush(stdout);
+
+    // Chains form under the reference-quality formation setting (lagged, 5 diameters).
+    prepare(s);
+    const long M = std::min(args.replay_steps, args.form_steps - 1);
+    const auto form0 = Clock::now();
+    run_with_progress(s, args.form_steps - M, "forming chains (lagged, 5 d)", alignment_note);
+    Trajectory traj;
+    traj.moments_at_start = s.particles.dipole_moment;
+    for (long k = 0; k < M; ++k) {
+        traj.positions.push_back(s.particles.position);
+        traj.times.push_back(s.time);
+        advance_steps(s, 1);
+    }
+    const double form_wall = seconds_since(form0);
+    const System saved = s;
+    const double cos_formed = contact_alignment(saved);
+    std::printf("formed: %ld steps (%.3g s simulated) in %.0f s; mean |cos| of contact normals to z %.3f (random "
+                "contacts: 0.5), %.2f contacts per grain\n\n",
+                args.form_steps, saved.time, form_wall, cos_formed, mean_coordination(saved));
+    std::fflush(stdout);
+
+    std::vector<Setting> settings;
+    auto add = [&](MutualPolicy p, int iters, double tol, double d, const std::string& name) {
+        char label[64];
+        std::snprintf(label, sizeof label, "%s, %g d", name.c_str(), d);
+        settings.push_back({label, p, iters, tol, d});
+    };
+    add(MutualPolicy::converged, 1, 1e-8, 8, "converged");  // the reference, first
+    add(MutualPolicy::fixed, 1, 1e-6, 5, "fixed");
+    add(MutualPolicy::lagged, 1, 1e-6, 5, "lagged");
+    add(MutualPolicy::iterations, 1, 1e-6, 5, "iterations 1");
+    add(MutualPolicy::iterations, 3, 1e-6, 5, "iterations 3");
+    add(MutualPolicy::converged, 1, 1e-8, 5, "converged");
+    for (double d : {2.0, 3.0}) add(MutualPolicy::converged, 1, 1e-8, d, "converged");
+    for (double d : {2.0, 3.0, 8.0}) add(MutualPolicy::lagged, 1, 1e-6, d, "lagged");
+
+    // (1) Same configuration.
+    std::vector<Measure> same;
+    const auto same0 = Clock::now();
+    for (const Setting& st : settings) {
+        same.push_back(same_configuration(saved, traj, st, skin, args.threads));
+        std::fprintf(stderr, "  same configuration: %s done (%.0f s)\n", st.label.c_str(), seconds_since(same0));
+    }
+    // (2) Stepped K steps from the saved state; one more reference run with another thread
+    // count gives the noise floor (the same physics, a different summation order).
+    std::vector<Measure> step;
+    const auto step0 = Clock::now();
+    for (const Setting& st : settings) {
+        step.push_back(stepped(saved, st, skin, args.steps, args.threads));
+        std::fprintf(stderr, "  stepped: %s done (%.0f s)\n", st.label.c_str(), seconds_since(step0));
+    }
+    const int other_threads = args.threads > 1 ? 1 : 2;
+    const Measure floor_run = stepped(saved, settings[0], skin, args.steps, other_threads);
+    std::fprintf(stderr, "  stepped: reference with %d thread(s) done (%.0f s)\n", other_threads, seconds_since(step0));
+
+    const Measure& ref_same = same[0];
+    const Measure& ref_step = step[0];
+    std::size_t lagged3 = 0;
+    for (std::size_t k = 0; k < settings.size(); ++k)
+        if (settings[k].policy == MutualPolicy::lagged && settings[k].diameters == 3.0) lagged3 = k;
+    double worst_mismatch = 0;
+    for (const Measure& m : same) worst_mismatch = std::max(worst_mismatch, m.engine_mismatch);
+
+    std::printf("Reference: converged (tolerance 1e-8), cutoff 8 diameters. Same configuration: mean |F_mag| %.4g N, "
+                "sigma_zz %.4g Pa, sigma_xx %.4g Pa; after %ld steps: %.4g N, %.4g Pa, %.4g Pa.\n",
+                ref_same.obs.mean_force, ref_same.obs.sigma_zz, ref_same.obs.sigma_xx, args.steps,
+                ref_step.obs.mean_force, ref_step.obs.sigma_zz, ref_step.obs.sigma_xx);
+    std::printf("Errors are signed, 100 (X - X_ref) / X_ref; sigma = (1/V) sum over pairs r F (negative: magnetic "
+                "attraction along z). Cost: all forces, %d thread(s), timed over the %ld steps.\n\n",
+                args.threads, args.steps);
+    std::printf("| setting | neighbours in range | field passes/step | same config: err mean abs F (%%) | err sigma_zz "
+                "(%%) | err sigma_xx (%%) | after %ld steps: err mean abs F (%%) | err sigma_zz (%%) | core-us per "
+                "grain-step | cost vs lagged 3 d |\n",
+                args.steps);
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+        const Measure& a = same[k];
+        const Measure& b = step[k];
+        std::printf("| %s%s | %.1f | %.2f | %+.2f | %+.2f | %+.2f | %+.2f | %+.2f | %.3f | %.2f |\n",
+                    settings[k].label.c_str(), k == 0 ? " (reference)" : "", a.neighbours_in_range,
+                    b.field_passes_per_step, percent(a.obs.mean_force, ref_same.obs.mean_force),
+                    percent(a.obs.sigma_zz, ref_same.obs.sigma_zz), percent(a.obs.sigma_xx, ref_same.obs.sigma_xx),
+                    percent(b.obs.mean_force, ref_step.obs.mean_force), percent(b.obs.sigma_zz, ref_step.obs.sigma_zz),
+                    b.core_us, b.core_us / step[lagged3].core_us);
+        rows.push_back({{"setting", settings[k].label},
+                        {"policy", policy_name(settings[k].policy)},
+                        {"iterations", settings[k].iterations},
+                        {"tolerance", settings[k].tolerance},
+                        {"cutoff_diameters", settings[k].diameters},
+                        {"same_configuration", measure_json(a, ref_same)},
+                        {"stepped", measure_json(b, ref_step)},
+                        {"cost_relative_to_lagged_3d", b.core_us / step[lagged3].core_us}});
+    }
+    std::printf("\nNoise floor of the stepped comparison: the reference re-run with %d thread(s) (same physics, another "
+                "summation order) differs by %+.2f %% in mean |F| and %+.2f %% in sigma_zz after %ld steps.\n",
+                other_threads, percent(floor_run.obs.mean_force, ref_step.obs.mean_force),
+                percent(floor_run.obs.sigma_zz, ref_step.obs.sigma_zz), args.steps);
+    std::printf("Observer check: the pair forces summed here from eq. 4.8 match the forces add_magnetic_forces applied "
+                "to within %.2g of the mean |F| (worst grain, all settings, same configuration).\n",
+                worst_mismatch);
+
+    if (!args.json_out.empty()) {
+        const nlohmann::json out = {
+            {"benchmark", "magnetic-accuracy"},
+            {"grains", n},
+            {"threads", args.threads},
+            {"timestep_s", saved.dt},
+            {"box_m", {lxy, lxy, lz}},
+            {"volume_m3", volume},
+            {"size", size},
+            {"form_steps", args.form_steps},
+            {"form_wall_s", form_wall},
+            {"mean_abs_cos_contact_normal_z_formed", cos_formed},
+            {"contacts_per_grain_formed", mean_coordination(saved)},
+            {"steps_per_setting", args.steps},
+            {"replayed_steps_same_configuration", M},
+            {"reference",
+             {{"same_configuration", measure_json(ref_same, ref_same)}, {"stepped", measure_json(ref_step, ref_step)}}},
+            {"noise_floor", {{"threads", other_threads}, {"stepped", measure_json(floor_run, ref_step)}}},
+            {"observer_vs_engine_max_relative_mismatch", worst_mismatch},
+            {"settings", rows},
+            {"scene", scene.resolved},
+        };
+        write_json_file(args.json_out, out);
+    }
+}
+
+}  // namespace
+
+void add_magnetic_bench_commands(CLI::App& bench, int& exit_status) {
+    auto margs = std::make_shared<MagneticBenchArgs>();
+    CLI::App* magnetic = bench.add_subcommand(
+        "magnetic", "Chain-forming MR scene (1,905 iron grains, 600 mT, lagged mutual dipoles): core-us per grain-step");
+    magnetic->add_option("--steps", margs->steps, "Timed steps")->check(CLI::Range(1L, 100000000L))->capture_default_str();
+    magnetic->add_option("--settle-steps", margs->settle_steps, "Untimed steps for chains to form first")
+        ->check(CLI::Range(0L, 100000000L))
+        ->capture_default_str();
+    magnetic->add_option("--threads", margs->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
+    magnetic->add_option("--json", margs->json_out, "Write the figures as JSON here");
+    magnetic->callback([margs, &exit_status] {
+        run_magnetic_bench(*margs);
+        exit_status = 0;
+    });
+
+    auto aargs = std::make_shared<AccuracyArgs>();
+    CLI::App* accuracy = bench.add_subcommand(
+        "magnetic-accuracy",
+        "Speed/accuracy of the mutual-dipole policy and magnetic cutoff against converged dipoles at 8 diameters");
+    accuracy->add_option("--form-steps", aargs->form_steps, "Steps forming the chains (lagged, 5 diameters)")
+        ->check(CLI::Range(2L, 100000000L))
+        ->capture_default_str();
+    accuracy->add_option("--steps", aargs->steps, "Steps each setting runs from the formed state (K)")
+        ->check(CLI::Range(2L, 100000000L))
+        ->capture_default_str();
+    accuracy->add_option("--replay-steps", aargs->replay_steps,
+                         "Formation steps replayed to give each setting its moment history (same configuration)")
+        ->check(CLI::Range(1L, 100000L))
+        ->capture_default_str();
+    accuracy->add_option("--grains", aargs->grains, "Approximate number of grains")
+        ->check(CLI::Range(100L, 1000000L))
+        ->capture_default_str();
+    accuracy->add_option("--threads", aargs->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
+    accuracy->add_option("--json", aargs->json_out, "Write the figures as JSON here");
+    accuracy->callback([aargs, &exit_status] {
+        run_accuracy_bench(*aargs);
+        exit_status = 0;
+    });
+}
+
+}  // namespace mrjam::cli

@@ -1,0 +1,229 @@
+// The mrjam executable with a "magnetic" scene block: bad magnetic input is refused before any
+// work with exit code 2 and the JSON path of the bad field on stderr; a valid small magnetic scene
+// runs and its report carries results.magnetic.
+//
+// Scenes are written into a fresh temporary directory; the binary is the one CMake built next to
+// the tests (MRJAM_BINARY), run as tests/test_cli.cpp runs it.
+#include <doctest/doctest.h>
+
+#include "temp_dir.hpp"
+
+#include <sys/wait.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using mrjam_test::slurp;
+
+struct TempDir : mrjam_test::TempDir {
+    TempDir() : mrjam_test::TempDir("mrjam_magnetic_cli") {}
+};
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+struct Result {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+Result mrjam(const TempDir& dir, const std::string& args) {
+    static std::atomic<int> counter{0};
+    const int k = counter++;
+    const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
+    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err);
+    const int status = std::system(command.c_str());
+    Result r;
+    REQUIRE(status != -1);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+Result run_scene(const TempDir& dir, const std::string& name, const json& scene) {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --quiet");
+}
+
+// Iron grains (6.7 um) at volume fraction 0.2 in a 36 um box periodic in x and y between walls,
+// in oil, 300 mT along z, two mutual-dipole iterations per step; 200 steps (~50 grains, well under
+// a second). The box must exceed twice the magnetic cutoff with skin, 2 x 15.4 um.
+json magnetic_scene() {
+    return json::parse(R"({
+      "description": "cli test: a small magnetic suspension",
+      "seed": 3,
+      "domain": {"lo": [0, 0, 0], "hi": ["36 um", "36 um", "36 um"], "periodic": "xy"},
+      "materials": [{"name": "iron", "density": "7800 kg/m3", "youngs_modulus": "1 GPa", "poisson_ratio": 0.278,
+                     "restitution": 0.1, "friction": 0.1, "relative_permeability": 1000,
+                     "saturation_magnetisation": "1.7e6 A/m"}],
+      "fluid": {"viscosity": "10 mPa s"},
+      "magnetic": {"field": {"type": "uniform", "flux_density": [0, 0, "300 mT"]},
+                   "mutual": "iterations", "iterations": 2, "cutoff": {"beyond_contact": "8 um"}},
+      "walls": [{"name": "bottom", "type": "plane", "point": [0, 0, 0], "normal": [0, 0, 1]},
+                {"name": "top", "type": "plane", "point": [0, 0, "36 um"], "normal": [0, 0, -1]}],
+      "grains": [{"material": "iron", "size": {"distribution": "single", "diameter": "6.7 um"},
+                  "placement": {"method": "random", "volume_fraction": 0.2}}],
+      "run": {"steps": 200, "characteristic_speed": "1 m/s"}
+    })");
+}
+
+// Expects refusal: exit code 2, stderr naming `path`, and no report (refused before any work).
+Result expect_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
+    CAPTURE(label);
+    const Result r = run_scene(dir, label, scene);
+    CHECK(r.exit_code == 2);
+    CAPTURE(r.err);
+    CHECK(r.err.find(path) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file(label + "_report.json")));
+    return r;
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("cli: a small magnetic scene runs and reports its magnetic results") {
+    TempDir dir;
+    const Result r = run_scene(dir, "magnetic", magnetic_scene());
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json rep = json::parse(slurp(dir.file("magnetic_report.json")));
+    CHECK(rep["status"] == "complete");
+    CHECK(rep["results"]["steps"] == 200);
+    REQUIRE(rep["results"].contains("magnetic"));
+    const json& mag = rep["results"]["magnetic"];
+    REQUIRE(mag["mean_iterations_per_step"].is_number());
+    // Two field passes per force evaluation, exactly (the `iterations` policy with 2).
+    CHECK(mag["mean_iterations_per_step"].get<double>() == 2.0);
+    CHECK(mag["policy"] == "iterations");
+    CHECK(mag["applied_field"] == "uniform");
+    CHECK(mag["mean_moment_A_m2"].get<double>() > 0);
+    // Resolved inputs: the defaults of the block are filled in.
+    const json& in = rep["inputs"]["magnetic"];
+    CHECK(in["mutual"] == "iterations");
+    CHECK(in["cutoff"]["beyond_contact"].get<double>() == doctest::Approx(8e-6));
+    CHECK(rep["inputs"]["materials"][0]["relative_permeability"] == 1000);
+}
+
+TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path of the bad field") {
+    TempDir dir;
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["mutal"] = "lagged";  // misspelt key
+        expect_refused(dir, "unknown_key", s, "/magnetic/mutal");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["field"]["flux_densty"] = {0, 0, 1};
+        expect_refused(dir, "unknown_key_in_field", s, "/magnetic/field/flux_densty");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["mutual"] = "sometimes";
+        const Result r = expect_refused(dir, "bad_policy", s, "/magnetic/mutual");
+        CHECK(r.err.find("converged") != std::string::npos);  // names the choices
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["field"]["type"] = "dipole";
+        expect_refused(dir, "bad_field_type", s, "/magnetic/field/type");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"diameters", 3}, {"beyond_contact", "8 um"}};
+        const Result r = expect_refused(dir, "cutoff_two_ways", s, "/magnetic/cutoff");
+        CHECK(r.err.find("exactly one") != std::string::npos);
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"diameters", 3}, {"length", "30 um"}};
+        expect_refused(dir, "cutoff_diameters_and_length", s, "/magnetic/cutoff");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"beyond_contact", "1 um"}, {"length", "30 um"}};
+        expect_refused(dir, "cutoff_beyond_and_length", s, "/magnetic/cutoff");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = json::object();
+        expect_refused(dir, "cutoff_none_given", s, "/magnetic/cutoff");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"length", "5 um"}};  // the grains touch at 6.7 um
+        const Result r = expect_refused(dir, "cutoff_shorter_than_contact", s, "/magnetic/cutoff");
+        CHECK(r.err.find("shorter than contact") != std::string::npos);
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"diameters", 0.5}};
+        expect_refused(dir, "cutoff_half_a_diameter", s, "/magnetic/cutoff/diameters");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["field"] = {{"type", "map"}, {"file", "no_such_field_map.txt"}};
+        const Result r = expect_refused(dir, "missing_field_map", s, "/magnetic/field/file");
+        CHECK(r.err.find("no_such_field_map.txt") != std::string::npos);
+        // Says how to make one.
+        CHECK(r.err.find("mrjam magnetics") != std::string::npos);
+        CHECK(r.err.find("--field-map") != std::string::npos);
+    }
+    {
+        // A damaged map: the message names the file and the line.
+        write_text(dir.file("broken_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n1e-5 1e-5 1e-5\n0 0 1\n0 0 one\n");
+        json s = magnetic_scene();
+        s["magnetic"]["field"] = {{"type", "map"}, {"file", "broken_map.txt"}};
+        const Result r = expect_refused(dir, "broken_field_map", s, "/magnetic/field/file");
+        CHECK(r.err.find("broken_map.txt:6") != std::string::npos);
+    }
+    {
+        json s = magnetic_scene();
+        s["materials"][0]["relative_permeability"] = 0.5;
+        expect_refused(dir, "permeability_below_1", s, "/materials/0/relative_permeability");
+    }
+    {
+        json s = magnetic_scene();
+        s["materials"][0]["saturation_magnetisation"] = 0;
+        expect_refused(dir, "zero_saturation", s, "/materials/0/saturation_magnetisation");
+    }
+    {
+        json s = magnetic_scene();
+        s["materials"][0]["remanence_direction"] = {0, 0, 0};
+        expect_refused(dir, "zero_remanence_direction", s, "/materials/0/remanence_direction");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["iterations"] = 0;
+        expect_refused(dir, "zero_iterations", s, "/magnetic/iterations");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["tolerance"] = 0;
+        expect_refused(dir, "zero_tolerance", s, "/magnetic/tolerance");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["field"]["switch_on"] = "2 us";
+        s["magnetic"]["field"]["switch_off"] = "1 us";
+        expect_refused(dir, "switch_off_before_on", s, "/magnetic/field/switch_off");
+    }
+}
+
+}  // TEST_SUITE
