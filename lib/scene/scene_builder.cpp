@@ -1,6 +1,7 @@
 // Scene file -> System and protocol. Every check that can be made before work is made here.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "geometry/packing.hpp"
@@ -278,10 +279,13 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
         if (!file.empty() && file[0] != '/' && !options.base_directory.empty()) file = options.base_directory + "/" + file;
         field.resolved_child("file") = file;  // as resolved, so a checkpoint finds it from anywhere
         const double scale = field.number("scale", 1.0, Bounds::any());
+        if (!std::filesystem::exists(file))
+            field.fail("file", "no field map at " + file + " (the format, a text grid of B, is in docs/scene.md under "
+                                                           "\"Magnetic forces\"; a relative path is taken from the scene file's folder)");
         try {
             mag.field = std::make_shared<FieldMap>(FieldMap::read(file, scale));
         } catch (const std::exception& e) {
-            field.fail("file", std::string(e.what()) + " (write one with `mrjam magnetics SCENE --field-map FILE`)");
+            field.fail("file", e.what());
         }
     }
     field.finish();
