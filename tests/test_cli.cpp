@@ -6,7 +6,7 @@
 // CMake built next to the tests (MRJAM_BINARY).
 #include <doctest/doctest.h>
 
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 #include <sys/wait.h>
 
@@ -24,6 +24,10 @@
 namespace {
 
 using mrjam_test::slurp;
+using mrjam_test::write_text;
+using mrjam_test::quote;
+using mrjam_test::Result;
+using mrjam_test::mrjam;
 struct TempDir : mrjam_test::TempDir {
     TempDir() : mrjam_test::TempDir("mrjam_cli") {}
 };
@@ -32,34 +36,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    REQUIRE(out.good());
-}
 
-std::string quote(const std::string& s) { return "'" + s + "'"; }
 
-struct Result {
-    int exit_code = -1;
-    std::string out, err;
-};
 
-// Runs `mrjam ARGS` with stdout and stderr captured in files of `dir`. `then` is more shell after
-// it (e.g. " & pid=$!; ...; wait $pid" to run it in the background and signal it).
-Result mrjam(const TempDir& dir, const std::string& args, const std::string& then = "") {
-    static std::atomic<int> counter{0};
-    const int k = counter++;
-    const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
-    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err) + then;
-    const int status = std::system(command.c_str());
-    Result r;
-    REQUIRE(status != -1);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
 
 // Writes `scene` and runs it; the report goes next to it.
 Result run_scene(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {

@@ -36,7 +36,7 @@
 #include "magnetic/external_field.hpp"
 #include "magnetic/magnetic_model.hpp"
 #include "scene/scene.hpp"
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 namespace {
 

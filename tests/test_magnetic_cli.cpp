@@ -6,7 +6,7 @@
 // the tests (MRJAM_BINARY), run as tests/test_cli.cpp runs it.
 #include <doctest/doctest.h>
 
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 #include <sys/wait.h>
 
@@ -23,37 +23,18 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using mrjam_test::slurp;
+using mrjam_test::write_text;
+using mrjam_test::quote;
+using mrjam_test::Result;
+using mrjam_test::mrjam;
 
 struct TempDir : mrjam_test::TempDir {
     TempDir() : mrjam_test::TempDir("mrjam_magnetic_cli") {}
 };
 
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    REQUIRE(out.good());
-}
 
-std::string quote(const std::string& s) { return "'" + s + "'"; }
 
-struct Result {
-    int exit_code = -1;
-    std::string out, err;
-};
 
-Result mrjam(const TempDir& dir, const std::string& args) {
-    static std::atomic<int> counter{0};
-    const int k = counter++;
-    const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
-    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err);
-    const int status = std::system(command.c_str());
-    Result r;
-    REQUIRE(status != -1);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
 
 Result run_scene(const TempDir& dir, const std::string& name, const json& scene) {
     write_text(dir.file(name + ".json"), scene.dump(2));

@@ -2,7 +2,7 @@
 // written for a few particles and read back far enough to check counts and exact values.
 #include <doctest/doctest.h>
 
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 #include <atomic>
 #include <bit>

@@ -1,0 +1,76 @@
+#pragma once
+// Test helpers shared by the suites: a scratch directory removed at scope exit, reading and
+// writing whole files, and running the mrjam executable with its output captured.
+#include <doctest/doctest.h>
+
+#include <sys/wait.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace mrjam_test {
+
+struct TempDir {
+    std::filesystem::path path;
+    explicit TempDir(const std::string& prefix = "mrjam_test") {
+        static std::atomic<int> counter{0};
+        std::random_device rd;
+        path = std::filesystem::temp_directory_path() /
+               (prefix + "_" + std::to_string(rd()) + "_" + std::to_string(counter++));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+// The whole file; the test fails here if it cannot be read.
+inline std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    REQUIRE_MESSAGE(in.good(), "cannot read " << path);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+inline void write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+inline std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+struct Result {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+#ifdef MRJAM_BINARY
+// Runs `mrjam ARGS` with stdout and stderr captured in files of `dir`. `then` is more shell after
+// it (e.g. " & pid=$!; ...; wait $pid" to run it in the background and signal it).
+inline Result mrjam(const TempDir& dir, const std::string& args, const std::string& then = "") {
+    static std::atomic<int> counter{0};
+    const int k = counter++;
+    const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
+    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err) + then;
+    const int status = std::system(command.c_str());
+    Result r;
+    REQUIRE(status != -1);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+#endif
+
+}  // namespace mrjam_test
