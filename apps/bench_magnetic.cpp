@@ -340,15 +340,6 @@ struct Setting {
     double diameters = 5;
 };
 
-const char* policy_name(MutualPolicy p) {
-    switch (p) {
-        case MutualPolicy::fixed: return "fixed";
-        case MutualPolicy::lagged: return "lagged";
-        case MutualPolicy::iterations: return "iterations";
-        case MutualPolicy::converged: return "converged";
-    }
-    return "?";
-}
 
 void apply_setting(MagneticModel& model, const Setting& st, double skin) {
     MagneticSettings& ms = model.settings;

@@ -47,8 +47,7 @@ nlohmann::json state_summary(const System& s) {
     if (s.magnetic.enabled) {
         double moment = 0;
         for (const Vec3& m : s.particles.dipole_moment) moment += norm(m);
-        const char* policies[] = {"fixed", "lagged", "iterations", "converged"};
-        j["magnetic"] = {{"policy", policies[static_cast<int>(s.magnetic.settings.policy)]},
+        j["magnetic"] = {{"policy", policy_name(s.magnetic.settings.policy)},
                          {"mean_iterations_per_step", mean_iterations(s.magnetic)},
                          {"listed_magnetic_neighbours_per_grain", s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
                          {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},

@@ -171,6 +171,16 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     if (s.policy == MutualPolicy::lagged) update_moments(model, p, time, true, threads);
 }
 
+const char* policy_name(MutualPolicy policy) {
+    switch (policy) {
+        case MutualPolicy::fixed: return "fixed";
+        case MutualPolicy::lagged: return "lagged";
+        case MutualPolicy::iterations: return "iterations";
+        case MutualPolicy::converged: return "converged";
+    }
+    return "?";
+}
+
 double mean_iterations(const MagneticModel& model) {
     return model.force_passes ? static_cast<double>(model.field_passes) / model.force_passes : 0.0;
 }

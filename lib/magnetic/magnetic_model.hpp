@@ -27,6 +27,9 @@ enum class MutualPolicy {
     converged,   // iterate until the moments change by less than the tolerance
 };
 
+// The policy's name as scene files write it.
+const char* policy_name(MutualPolicy policy);
+
 struct MagneticSettings {
     MutualPolicy policy = MutualPolicy::lagged;
     int iterations = 1;         // for `iterations`

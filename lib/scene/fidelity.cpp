@@ -15,16 +15,6 @@ const std::vector<FidelityTier>& tiers() {
     return all;
 }
 
-const char* policy_name(MutualPolicy p) {
-    switch (p) {
-        case MutualPolicy::fixed: return "fixed";
-        case MutualPolicy::lagged: return "lagged";
-        case MutualPolicy::iterations: return "iterations";
-        case MutualPolicy::converged: return "converged";
-    }
-    return "?";
-}
-
 }  // namespace
 
 const FidelityTier& fidelity_tier(const std::string& name) {

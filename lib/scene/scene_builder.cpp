@@ -290,10 +290,8 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     }
     field.finish();
     MagneticSettings& st = mag.settings;
-    const char* tier_policy = tier.magnetic_policy == MutualPolicy::fixed ? "fixed"
-                              : tier.magnetic_policy == MutualPolicy::lagged ? "lagged"
-                              : tier.magnetic_policy == MutualPolicy::iterations ? "iterations" : "converged";
-    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, tier_policy);
+    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"},
+                                           policy_name(tier.magnetic_policy));
     st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
               : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
     st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
