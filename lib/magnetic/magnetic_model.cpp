@@ -64,20 +64,21 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
                 const Vec3 d = xi - x[j] + list.image_shift(image[k]);
                 const double r2 = norm2(d);
                 if (r2 >= range_sq[k]) continue;
-                const double inv_r = 1.0 / std::sqrt(r2);
-                const Vec3 rhat = d * inv_r;  // from j to i
-                const double inv_r3 = inv_r * inv_r * inv_r;
+                // Written in the unnormalised separation d so the dot products do not wait for
+                // the square root: rhat = d / r, m.rhat = (m.d) / r.
+                const double inv_r2 = 1.0 / r2;
+                const double c = kInvFourPi * inv_r2 * std::sqrt(inv_r2);  // 1 / (4 pi r^3)
                 const Vec3 mj = m[j];
-                const double mi_r = dot(mi, rhat), mj_r = dot(mj, rhat);
-                // Dipole fields (even in rhat): at i from j, at j from i.
-                const double c = kInvFourPi * inv_r3;
-                const Vec3 h_at_i = (rhat * (3.0 * mj_r) - mj) * c;
-                const Vec3 h_at_j = (rhat * (3.0 * mi_r) - mi) * c;
+                const double mi_d = dot(mi, d), mj_d = dot(mj, d);
+                // Dipole fields (even in d): at i from j, at j from i.
+                const Vec3 h_at_i = (d * (3.0 * mj_d * inv_r2) - mj) * c;
+                const Vec3 h_at_j = (d * (3.0 * mi_d * inv_r2) - mi) * c;
                 hi += h_at_i;
                 h[j] += h_at_j;
                 if constexpr (WithForces) {
-                    const Vec3 force = (mj * mi_r + mi * mj_r + rhat * (dot(mi, mj) - 5.0 * mi_r * mj_r)) *
-                                       (3.0 * kMu0 * c * inv_r);
+                    // Eq. 4.8 with rhat from j to i.
+                    const Vec3 force = (mj * mi_d + mi * mj_d + d * (dot(mi, mj) - 5.0 * mi_d * mj_d * inv_r2)) *
+                                       (3.0 * kMu0 * c * inv_r2);
                     fi += force;
                     f[j] -= force;
                 }
