@@ -28,6 +28,8 @@ using mrjam_test::write_text;
 using mrjam_test::quote;
 using mrjam_test::Result;
 using mrjam_test::mrjam;
+using mrjam_test::run_scene;
+using mrjam_test::expect_refused;
 struct TempDir : mrjam_test::TempDir {
     TempDir() : mrjam_test::TempDir("mrjam_cli") {}
 };
@@ -40,12 +42,6 @@ using nlohmann::json;
 
 
 
-// Writes `scene` and runs it; the report goes next to it.
-Result run_scene(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
-    write_text(dir.file(name + ".json"), scene.dump(2));
-    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --quiet " + extra);
-}
 
 json read_report(const TempDir& dir, const std::string& name) {
     const std::string text = slurp(dir.file(name + "_report.json"));
@@ -96,16 +92,6 @@ json two_stage_scene(long every, const std::string& checkpoint_path, const std::
     return scene;
 }
 
-// Expects refusal: exit code 2 and stderr naming `path`.
-Result expect_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
-    CAPTURE(label);
-    const Result r = run_scene(dir, label, scene);
-    CHECK(r.exit_code == 2);
-    CAPTURE(r.err);
-    CHECK(r.err.find(path) != std::string::npos);
-    CHECK_FALSE(fs::exists(dir.file(label + "_report.json")));  // refused before any work
-    return r;
-}
 
 }  // namespace
 

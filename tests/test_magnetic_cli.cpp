@@ -27,6 +27,8 @@ using mrjam_test::write_text;
 using mrjam_test::quote;
 using mrjam_test::Result;
 using mrjam_test::mrjam;
+using mrjam_test::run_scene;
+using mrjam_test::expect_refused;
 
 struct TempDir : mrjam_test::TempDir {
     TempDir() : mrjam_test::TempDir("mrjam_magnetic_cli") {}
@@ -36,11 +38,6 @@ struct TempDir : mrjam_test::TempDir {
 
 
 
-Result run_scene(const TempDir& dir, const std::string& name, const json& scene) {
-    write_text(dir.file(name + ".json"), scene.dump(2));
-    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --quiet");
-}
 
 // Iron grains (6.7 um) at volume fraction 0.2 in a 36 um box periodic in x and y between walls,
 // in oil, 300 mT along z, two mutual-dipole iterations per step; 200 steps (~50 grains, well under
@@ -64,16 +61,6 @@ json magnetic_scene() {
     })");
 }
 
-// Expects refusal: exit code 2, stderr naming `path`, and no report (refused before any work).
-Result expect_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
-    CAPTURE(label);
-    const Result r = run_scene(dir, label, scene);
-    CHECK(r.exit_code == 2);
-    CAPTURE(r.err);
-    CHECK(r.err.find(path) != std::string::npos);
-    CHECK_FALSE(fs::exists(dir.file(label + "_report.json")));
-    return r;
-}
 
 }  // namespace
 

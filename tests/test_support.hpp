@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace mrjam_test {
 
 struct TempDir {
@@ -69,6 +71,26 @@ inline Result mrjam(const TempDir& dir, const std::string& args, const std::stri
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     r.out = slurp(out);
     r.err = slurp(err);
+    return r;
+}
+
+// Writes `scene` and runs it; the report goes next to it.
+inline Result run_scene(const TempDir& dir, const std::string& name, const nlohmann::json& scene,
+                        const std::string& extra = "") {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --quiet " + extra);
+}
+
+// Expects refusal: exit code 2, stderr naming `path`, and no report (refused before any work).
+inline Result expect_refused(const TempDir& dir, const std::string& label, const nlohmann::json& scene,
+                             const std::string& path) {
+    CAPTURE(label);
+    const Result r = run_scene(dir, label, scene);
+    CHECK(r.exit_code == 2);
+    CAPTURE(r.err);
+    CHECK(r.err.find(path) != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
     return r;
 }
 #endif
