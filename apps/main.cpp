@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     int exit_status = 0;
     mrjam::cli::add_run_command(app, exit_status);
     mrjam::cli::add_bench_command(app, exit_status);
+    mrjam::cli::add_magnetics_command(app, exit_status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

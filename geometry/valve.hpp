@@ -15,8 +15,8 @@
 namespace mrjam {
 
 struct ValveGeometry {
-    double tube_inner_diameter = 2.4e-3;    // bore of the valve body
-    double wall_thickness = 0.4e-3;         // valve body wall around the bore
+    double tube_inner_diameter = 2.6e-3;    // bore of the valve body
+    double wall_thickness = 0.3e-3;         // printed wall: the body's 3.2 mm outside fills the magnet gap
     double constriction_diameter = 1.32e-3; // throat (the source's 30x preset: 30 x 44 um)
     double taper_length = 0.8e-3;           // converging cone, bore -> throat
     double throat_length = 0.2e-3;          // straight part at the throat diameter

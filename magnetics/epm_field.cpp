@@ -83,8 +83,8 @@ FieldGrid fluid_map(const EpmModel& m, int dim, double spacing, const ElementSam
         auto b = sampler.sample(x);
         const double r = std::hypot(x.x, x.y);
         // Step inwards past the faceted (polygonal) surface of the meshed cylinder.
-        for (int step = 0; !b && r > r_body && step < 10; ++step) {
-            const double f_in = r_body * (1.0 - 0.01 * step) / r;
+        for (int step = 0; !b && r > 0 && step < 10; ++step) {
+            const double f_in = std::min(r_body, r) * (1.0 - 0.01 * step) / r;
             b = sampler.sample({x.x * f_in, x.y * f_in, x.z});
         }
         if (!b) throw std::runtime_error("field map node (" + std::to_string(x.x) + ", " + std::to_string(x.y) + ", " +
@@ -149,6 +149,8 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
     problem.measured_regions = {region::fluid_active, region::inactive_air};
     problem.sampled_regions = {region::fluid_active, region::valve_body};
     if (dim == 3) problem.sampled_regions.push_back(region::fluid_passive);
+    // Inserts reach into the bore's bounding box.
+    if (m.bracket.variant == BracketVariant::insert) problem.sampled_regions.push_back(region::iron);
     problem.section = request.picture_pixels > 1;
     const Solution s = solve_with_getdp(problem, request.work_dir, mesh_file);
 

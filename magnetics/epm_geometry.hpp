@@ -22,10 +22,10 @@ inline constexpr int valve_body = 9;     // the valve body's wall (plastic: non-
 inline constexpr int boundary = 10;      // the air box: phi = 0
 }  // namespace region
 
-// Element sizes. `level` scales the device and fluid sizes together (1 = standard).
+// Element sizes (the standard tier's defaults; see tier_mesh in magnetics_scene.hpp).
 struct MeshSettings {
-    double fluid_size = 0.12e-3;   // in and around the active fluid
-    double device_size = 0.3e-3;   // magnets, brackets, the tube near them
+    double fluid_size = 0.2e-3;    // in and around the active fluid
+    double device_size = 0.5e-3;   // magnets, brackets, the tube near them
     double far_size = 3e-3;        // at the air box
     double air_box = 30e-3;        // side of the cubic (square in 2D) air box, centred on the device
 };

@@ -29,7 +29,9 @@ struct MagnetParameters {
     double length = 3.2e-3;    // along y, the magnetisation axis
     double spacing = 0.4e-3;   // z gap between the two magnets (room for the alnico's coil)
     MagnetMaterial ndfeb{1.35, 1.05};    // N42, remanence as in the source's FEM
-    MagnetMaterial alnico{1.35, 3.5};    // alnico 5: same remanence in the source's FEM; recoil mu ~ 3.5
+    // The source's FEM fixed both remanences at 1.35 T and treated the alnico like the NdFeB;
+    // real alnico 5 recoils with mu ~ 3.5 about its working point (its effect: docs/magnetics.md).
+    MagnetMaterial alnico{1.35, 1.05};
     double alnico_polarity = 1.0;        // +1 ON (parallel), -1 OFF (antiparallel)
 };
 
@@ -37,7 +39,7 @@ struct BracketParameters {
     BracketVariant variant = BracketVariant::rectangular;
     double thickness = 1.4e-3;         // along y: 3.2 mm magnets + 2 x 1.4 mm caps = the EPM's 6 mm
     double width = 4.0e-3;             // along z: the EPM's 4 mm
-    double tube_clearance = 0.3e-3;    // x gap between the magnets' front face and the tube wall (coil room)
+    double tube_clearance = 0.2e-3;    // x gap between the magnets' front face and the tube wall (coil room)
     double tip_reach = 0.0;            // tip x position measured from the tube axis (0: to the centre of the flow)
     double chamfer = 0.5e-3;           // 45-degree chamfer on the outer edge of each tip
     double cutout_radius = 0.6e-3;     // curved variant: circular cutout in the inner face at the base

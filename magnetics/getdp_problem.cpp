@@ -1,5 +1,6 @@
 #include "magnetics/getdp_problem.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -60,6 +61,9 @@ std::string getdp_problem_text(const ProblemRequest& p) {
             // mu -> mu0 mu_r at low field and the polarisation saturates at J_s.
             const double hk = r.saturation / ((r.relative_permeability - 1.0) * mu0);
             o << "  mu[" << r.name << "] = mu0 + " << number(r.saturation) << " / (" << number(hk) << " + Norm[$1]);\n";
+            // d mu / d|H| divided by |H|, for the Newton Jacobian's dyadic term.
+            o << "  dmudh_over_h[" << r.name << "] = -" << number(r.saturation) << " / ((" << number(hk)
+              << " + Norm[$1])^2 * (Norm[$1] + 1e-12));\n";
         } else {
             o << "  mu[" << r.name << "] = " << number(r.relative_permeability) << " * mu0;\n";
         }
@@ -84,12 +88,17 @@ std::string getdp_problem_text(const ProblemRequest& p) {
          "  Quantity { { Name phi; Type Local; NameOfSpace Hphi; } }\n"
          "  Equation {\n"
          "    Galerkin { [ " << mu_of << " * Dof{d phi}, {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; }\n"
-         "    Galerkin { [ -br[], {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; } } } }\n\n";
+         "    Galerkin { [ -br[], {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; }\n";
+    // Newton: d(mu(|H|) H)/dH = mu I + (dmu/d|H|) H (x) H / |H|; the second part is JacNL.
+    if (!saturating.empty())
+        o << "    Galerkin { JacNL [ dmudh_over_h[-{d phi}] * SquDyadicProduct[{d phi}] * Dof{d phi}, {d phi} ]; "
+             "In Saturating; Jacobian Vol; Integration Gauss2; }\n";
+    o << "  } } }\n\n";
     o << "Resolution { { Name Magnetostatics; System { { Name A; NameOfFormulation Magnetostatics; } }\n  Operation {\n";
     if (saturating.empty()) {
         o << "    Generate[A]; Solve[A];\n";
     } else {
-        // Picard iteration: the Jacobian without a JacNL term is the secant matrix.
+        // Newton iteration (the JacNL term above completes the Jacobian).
         o << "    InitSolution[A];\n    IterativeLoop[" << p.nonlinear_iterations << ", " << number(p.nonlinear_tolerance)
           << ", 1] { GenerateJac[A]; SolveJac[A]; }\n";
     }
@@ -260,21 +269,30 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
         const std::regex iterations(R"(Info\s*:\s*(\d+) iterations)");
         const std::regex dofs(R"(System \d+/\d+: (\d+) Dofs)");
         const std::regex error(R"(^Error)");
-        const std::regex nonlinear(R"(IterativeLoop.*?(\d+))");
+        const std::regex nonlinear(R"(Nonlinear Residual norm\s+([0-9.eE+-]+))");
         std::smatch m;
         while (std::getline(in, line)) {
             if (std::regex_search(line, m, iterations)) s.solver_iterations = std::stoi(m[1]);
             if (std::regex_search(line, m, dofs)) s.unknowns = std::stoi(m[1]);
             if (std::regex_search(line, error))
                 throw SolverError("getdp reported: " + line + " (log: " + log.string() + ")");
-            if (line.find("Residual") != std::string::npos && line.find("IterativeLoop") == std::string::npos &&
-                line.find("KSP") == std::string::npos)
+            if (std::regex_search(line, m, nonlinear)) {
                 ++s.nonlinear_steps;
+                s.nonlinear_residual = std::stod(m[1]);
+            }
         }
     }
     if (s.solver_iterations >= kMaxSolverIterations)
         throw SolverError("the CG solver did not converge in " + std::to_string(kMaxSolverIterations) + " iterations (" +
                           std::to_string(s.unknowns) + " unknowns); check the mesh for slivers or use a coarser mesh. Log: " +
+                          log.string());
+
+    const bool saturating = std::any_of(p.regions.begin(), p.regions.end(), [](const auto& r) { return r.saturating; });
+    if (saturating && !(s.nonlinear_residual <= p.nonlinear_tolerance))
+        throw SolverError("the nonlinear (saturating iron) iteration did not converge: residual " +
+                          std::to_string(s.nonlinear_residual) + " after " + std::to_string(s.nonlinear_steps) +
+                          " steps (tolerance " + std::to_string(p.nonlinear_tolerance) + ", " + std::to_string(s.unknowns) +
+                          " unknowns); the iron may be deep in saturation: check the remanence and the saturation. Log: " +
                           log.string());
 
     // Results are written next to the .pro file.

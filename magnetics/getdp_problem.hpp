@@ -4,7 +4,7 @@
 // No gauge is needed and the system is symmetric positive definite, so conjugate gradients
 // with an incomplete Cholesky preconditioner solve it in seconds; second-order hierarchical
 // elements make volume means converge fast. Soft iron may follow a Frohlich-Kennelly
-// saturation curve, solved by Picard iteration.
+// saturation curve, solved by Newton iteration.
 #include <array>
 #include <filesystem>
 #include <optional>
@@ -58,7 +58,8 @@ struct Solution {
     std::vector<std::vector<Vec3>> line_values;    // per line request
     int unknowns = 0;
     int solver_iterations = 0;                      // CG iterations (last linear solve)
-    int nonlinear_steps = 0;                        // Picard steps (0 for a linear problem)
+    int nonlinear_steps = 0;                        // Newton steps (0 for a linear problem)
+    double nonlinear_residual = 0;                  // GetDP's last relative nonlinear residual
     double seconds = 0;
     const RegionField& field(int region) const;
 };

@@ -1,0 +1,193 @@
+#include "magnetics/magnetics_scene.hpp"
+
+#include <cmath>
+
+#include "scene/scene_node.hpp"
+
+namespace mrjam::magnetics {
+
+std::vector<std::string> magnetics_tier_names() { return {"quick", "standard", "paper"}; }
+
+FieldModel tier_field_model(const std::string& tier) {
+    return tier == "quick" ? FieldModel::planar_2d : FieldModel::full_3d;
+}
+
+// Measured in docs/magnetics.md: the active-fluid mean moves by 0.1% from (0.24, 0.6) mm to
+// (0.12, 0.3) mm elements, so the standard tier uses the coarse pair and answers in seconds.
+MeshSettings tier_mesh(const std::string& tier) {
+    MeshSettings m;  // standard 3D
+    if (tier == "quick") { m.fluid_size = 0.05e-3; m.device_size = 0.1e-3; m.far_size = 2e-3; }  // 2D: cheap
+    if (tier == "paper") { m.fluid_size = 0.1e-3; m.device_size = 0.25e-3; }
+    return m;
+}
+
+namespace {
+
+void read_magnet(SceneNode node, MagnetMaterial& m) {
+    m.remanence = node.quantity("remanence", units::magnetic_flux_density, m.remanence, Bounds::non_negative());
+    m.recoil_permeability = node.number("recoil_permeability", m.recoil_permeability, Bounds::closed(1.0, 1e6));
+    node.finish();
+}
+
+void read_valve(SceneNode node, ValveGeometry& v) {
+    const auto L = units::length;
+    v.tube_inner_diameter = node.quantity("tube_inner_diameter", L, v.tube_inner_diameter, Bounds::positive());
+    v.wall_thickness = node.quantity("wall_thickness", L, v.wall_thickness, Bounds::any());
+    if (node.has("constriction") && node.has("constriction_diameter"))
+        node.fail("constriction", "give either a preset name (constriction) or constriction_diameter, not both");
+    if (node.has("constriction")) {
+        const std::string preset = node.choice("constriction", constriction_preset_names(), std::nullopt);
+        v.constriction_diameter = constriction_preset(preset);
+    } else {
+        v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
+    }
+    v.taper_length = node.quantity("taper_length", L, v.taper_length, Bounds::any());
+    v.throat_length = node.quantity("throat_length", L, v.throat_length, Bounds::any());
+    v.upstream_length = node.quantity("upstream_length", L, v.upstream_length, Bounds::any());
+    v.downstream_length = node.quantity("downstream_length", L, v.downstream_length, Bounds::any());
+    node.finish();
+}
+
+// Maxwell Garnett (Clausius-Mossotti) for spheres of permeability mu_p at volume fraction phi in
+// a non-magnetic carrier: mu = (1 + 2 phi beta) / (1 - phi beta), beta = (mu_p - 1)/(mu_p + 2).
+// It ignores chaining, so it is a lower bound for a fluid in a field (documented).
+double maxwell_garnett(double phi, double mu_particle) {
+    const double beta = (mu_particle - 1.0) / (mu_particle + 2.0);
+    return (1.0 + 2.0 * phi * beta) / (1.0 - phi * beta);
+}
+
+void read_materials(SceneNode node, MaterialParameters& m) {
+    if (auto iron = node.optional_object("iron")) {
+        m.iron_relative_permeability = iron->number("relative_permeability", m.iron_relative_permeability, Bounds::closed(1.0, 1e7));
+        m.iron_nonlinear = iron->choice("model", {"linear", "saturating"}, "linear") == "saturating";
+        m.iron_saturation = iron->quantity("saturation", units::magnetic_flux_density, m.iron_saturation, Bounds::positive());
+        iron->finish();
+    }
+    if (auto fluid = node.optional_object("fluid")) {
+        const std::string rule = fluid->choice("mixing_rule", {"none", "maxwell_garnett"}, "none");
+        if (rule == "none") {
+            m.fluid_relative_permeability =
+                fluid->number("relative_permeability", m.fluid_relative_permeability, Bounds::closed(1.0, 1e6));
+        } else {
+            if (fluid->has("relative_permeability"))
+                fluid->fail("relative_permeability", "is derived from the mixing rule; drop it or set mixing_rule to \"none\"");
+            const double phi = fluid->number("volume_fraction", std::nullopt, Bounds::open(0.0, 0.74));
+            const double mu_p = fluid->number("particle_permeability", 1000.0, Bounds::closed(1.0, 1e7));
+            m.fluid_relative_permeability = maxwell_garnett(phi, mu_p);
+            fluid->resolved_child("relative_permeability_derived") = m.fluid_relative_permeability;
+        }
+        fluid->finish();
+    }
+    node.finish();
+}
+
+}  // namespace
+
+MagneticsScene read_magnetics_scene(const nlohmann::json& scene, const std::string& tier) {
+    MagneticsScene out;
+    out.tier = tier;
+    SceneNode root(scene, out.resolved, "");
+    root.text("description", "");
+    EpmModel& m = out.request.model;
+    const auto L = units::length;
+
+    m.bracket.variant = variant_from_name(root.choice("variant", variant_names(), "rectangular"));
+    out.state = root.choice("state", {"on", "off", "partial"}, "on");
+    if (auto valve = root.optional_object("valve")) read_valve(*valve, m.valve);
+    if (auto magnets = root.optional_object("magnets")) {
+        auto& mg = m.magnets;
+        mg.width = magnets->quantity("width", L, mg.width, Bounds::any());
+        mg.depth = magnets->quantity("depth", L, mg.depth, Bounds::any());
+        mg.length = magnets->quantity("length", L, mg.length, Bounds::any());
+        mg.spacing = magnets->quantity("spacing", L, mg.spacing, Bounds::any());
+        if (auto n = magnets->optional_object("ndfeb")) read_magnet(*n, mg.ndfeb);
+        if (out.state == "partial" && !(magnets->has("alnico") && scene["magnets"]["alnico"].contains("remanence")))
+            mg.alnico.remanence = 1.25;  // the source's partial switch
+        if (auto a = magnets->optional_object("alnico")) read_magnet(*a, mg.alnico);
+        magnets->finish();
+    } else if (out.state == "partial") {
+        m.magnets.alnico.remanence = 1.25;
+    }
+    m.magnets.alnico_polarity = out.state == "on" ? 1.0 : -1.0;
+    if (out.state == "partial" && m.magnets.alnico.remanence >= m.magnets.ndfeb.remanence)
+        root.fail("state", "partial switching means the alnico is reversed but weaker than the NdFeB: set "
+                           "magnets/alnico/remanence below magnets/ndfeb/remanence (the source used 1.25 T vs 1.35 T)");
+    if (auto b = root.optional_object("bracket")) {
+        auto& br = m.bracket;
+        br.thickness = b->quantity("thickness", L, br.thickness, Bounds::any());
+        br.width = b->quantity("width", L, br.width, Bounds::any());
+        br.tube_clearance = b->quantity("tube_clearance", L, br.tube_clearance, Bounds::any());
+        br.tip_reach = b->quantity("tip_reach", L, br.tip_reach, Bounds::any());
+        br.chamfer = b->quantity("chamfer", L, br.chamfer, Bounds::any());
+        br.cutout_radius = b->quantity("cutout_radius", L, br.cutout_radius, Bounds::any());
+        br.insert_width = b->quantity("insert_width", L, br.insert_width, Bounds::any());
+        b->finish();
+    }
+    if (auto mat = root.optional_object("materials")) read_materials(*mat, m.materials);
+
+    // Geometry checks that need the whole description.
+    const auto problems = m.problems();
+    if (!problems.empty()) {
+        const std::string first = problems.front();
+        const auto colon = first.find(": ");
+        throw SceneError(first.substr(0, colon), first.substr(colon + 2) +
+                                                     (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
+                                                                                " more problem(s); fix this one first)"
+                                                                          : ""));
+    }
+
+    const std::string model = root.choice("model", {"circuit", "2d", "3d"}, field_model_name(tier_field_model(tier)));
+    out.request.field_model = model == "circuit" ? FieldModel::circuit : model == "2d" ? FieldModel::planar_2d : FieldModel::full_3d;
+    MeshSettings mesh = tier_mesh(tier);
+    if (auto node = root.optional_object("mesh")) {
+        mesh.fluid_size = node->quantity("fluid_size", L, mesh.fluid_size, Bounds::positive());
+        mesh.device_size = node->quantity("device_size", L, mesh.device_size, Bounds::positive());
+        mesh.far_size = node->quantity("far_size", L, mesh.far_size, Bounds::positive());
+        mesh.air_box = node->quantity("air_box", L, mesh.air_box, Bounds::positive());
+        node->finish();
+    } else {
+        auto& echo = root.resolved_child("mesh");
+        echo = {{"fluid_size", mesh.fluid_size}, {"device_size", mesh.device_size}, {"far_size", mesh.far_size},
+                {"air_box", mesh.air_box}};
+    }
+    const EpmLayout layout = epm_layout(m);
+    const Vec3 extent = layout.device_hi - layout.device_lo;
+    if (mesh.air_box < 2.0 * std::max({extent.x, extent.y, extent.z}))
+        throw SceneError("/mesh/air_box", "must be at least twice the device's largest extent (" +
+                                              std::to_string(2e3 * std::max({extent.x, extent.y, extent.z})) +
+                                              " mm) so the phi = 0 boundary does not squeeze the field");
+    if (mesh.fluid_size > 0.5 * m.valve.constriction_diameter)
+        throw SceneError("/mesh/fluid_size", "is coarser than half the throat diameter; the fluid would not be resolved");
+    out.request.mesh = mesh;
+    if (auto fm = root.optional_object("field_map")) {
+        out.request.map_spacing = fm->quantity("spacing", L, out.request.map_spacing, Bounds::positive());
+        fm->finish();
+    }
+    if (out.request.map_spacing > 0.5 * m.valve.tube_inner_diameter)
+        throw SceneError("/field_map/spacing", "is coarser than the bore radius; use at most a tenth of the bore");
+    if (auto o = root.optional_object("output")) {
+        out.output_directory = o->text("directory", "out/magnetics");
+        out.keep_solver_files = o->boolean("keep_solver_files", false);
+        o->finish();
+    } else {
+        out.output_directory = "out/magnetics";
+    }
+    root.finish();
+    return out;
+}
+
+SourceFigure source_figure(const MagneticsScene& s) {
+    const auto v = s.request.model.bracket.variant;
+    if (s.state == "on") {
+        if (v == BracketVariant::rectangular) return {0.2294, "active", "rectangular ON, mean in the active area"};
+        if (v == BracketVariant::curved) return {0.2228, "active", "curved ON, mean in the active area"};
+        if (v == BracketVariant::unchamfered) return {0.2245, "active", "unchamfered ON, mean in the active area"};
+        if (v == BracketVariant::insert) return {0.5578, "active", "inserts ON, mean in the active area"};
+    }
+    if (v == BracketVariant::rectangular && s.state == "off") return {0.066e-3, "inactive", "rectangular OFF, inactive area"};
+    if (v == BracketVariant::rectangular && s.state == "partial")
+        return {4.3e-3, "active", "rectangular OFF with alnico at 1.25 T, active area"};
+    return {};
+}
+
+}  // namespace mrjam::magnetics
