@@ -1,6 +1,9 @@
 #include "magnetics/bare_magnet.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #include <gmsh.h>
 
@@ -15,7 +18,7 @@ BareMagnetSolution solve_bare_magnet(const Cuboid& magnet, const BareMagnetMesh&
     std::filesystem::create_directories(work_dir);
     const auto mesh_file = work_dir / "magnet.msh";
     BareMagnetSolution out;
-    {
+    try {
         GmshSession session("bare_magnet");
         const Vec3 lo = magnet.centre - 0.5 * magnet.size;
         const int box = gmsh::model::occ::addBox(lo.x, lo.y, lo.z, magnet.size.x, magnet.size.y, magnet.size.z);
@@ -27,10 +30,14 @@ BareMagnetSolution solve_bare_magnet(const Cuboid& magnet, const BareMagnetMesh&
         request.far_size = mesh.far_size;
         request.air_region = kAir;
         request.boundary_region = kBoundary;
-        // Fine around the magnet and over the probe lines' neighbourhood (two magnet sizes).
-        const Vec3 pad = 2.0 * magnet.size;
-        request.refinements.push_back({lo - pad, lo + magnet.size + pad, mesh.magnet_size, 0.25 * mesh.air_box});
+        // Fine in and just around the magnet, where the field varies on the magnet's own scale;
+        // growing to the far size over a few magnet lengths.
+        const Vec3 pad{mesh.magnet_size * 3, mesh.magnet_size * 3, mesh.magnet_size * 3};
+        const double grow = 4.0 * std::max({magnet.size.x, magnet.size.y, magnet.size.z});
+        request.refinements.push_back({lo - pad, lo + magnet.size + pad, mesh.magnet_size, grow});
         out.elements = mesh_assembly({{kMagnet, {{3, box}}}}, request, mesh_file).elements;
+    } catch (const std::string& gmsh_error) {
+        throw std::runtime_error("gmsh failed: " + gmsh_error);
     }
     ProblemRequest problem;
     problem.dimension = 3;

@@ -133,13 +133,15 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
 
     EpmField out;
     out.field_model = request.field_model;
-    {
+    try {
         GmshSession session("epm");
         const auto pieces = add_epm_pieces(m, dim);
         const MeshSummary mesh = mesh_assembly(pieces, epm_mesh_request(m, dim, request.mesh), mesh_file);
         out.mesh_nodes = mesh.nodes;
         out.mesh_elements = mesh.elements;
         out.mesh_seconds = mesh.seconds;
+    } catch (const std::string& gmsh_error) {  // gmsh's API throws its last error as a string
+        throw std::runtime_error("gmsh failed: " + gmsh_error + " (set MRJAM_GMSH_VERBOSE=1 for its log)");
     }
 
     ProblemRequest problem;

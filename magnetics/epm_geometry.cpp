@@ -176,7 +176,7 @@ std::vector<RegionPieces> add_epm_pieces(const EpmModel& m, int dim) {
         const DimTags inactive = cut(box, tools, false);
         tools = fluid;
         tools.insert(tools.end(), inserts.begin(), inserts.end());
-        const DimTags body = cut(body_outline, tools, true);
+        const DimTags body = cut(body_outline, tools, false);
         iron.insert(iron.end(), inserts.begin(), inserts.end());
         regions.push_back({region::iron, iron});
         regions.push_back({region::fluid_active, fluid});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -12,7 +13,8 @@ namespace mrjam::magnetics {
 
 GmshSession::GmshSession(const std::string& model_name) {
     gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
+    // MRJAM_GMSH_VERBOSE=1 shows gmsh's own log, for diagnosing a geometry that will not mesh.
+    gmsh::option::setNumber("General.Terminal", std::getenv("MRJAM_GMSH_VERBOSE") ? 1 : 0);
     gmsh::option::setNumber("General.Verbosity", 2);
     gmsh::model::add(model_name);
 }

@@ -83,9 +83,34 @@ void read_materials(SceneNode node, MaterialParameters& m) {
 
 }  // namespace
 
-MagneticsScene read_magnetics_scene(const nlohmann::json& scene, const std::string& tier) {
+namespace {
+
+// Absent blocks are read as empty ones so that every default is echoed into the report.
+nlohmann::json with_default_blocks(const nlohmann::json& scene) {
+    if (!scene.is_object()) throw SceneError("", "a magnetics scene is a JSON object");
+    nlohmann::json filled = scene;
+    const nlohmann::json skeleton = {{"valve", nlohmann::json::object()},
+                                     {"magnets", {{"ndfeb", nlohmann::json::object()}, {"alnico", nlohmann::json::object()}}},
+                                     {"bracket", nlohmann::json::object()},
+                                     {"materials", {{"iron", nlohmann::json::object()}, {"fluid", nlohmann::json::object()}}},
+                                     {"mesh", nlohmann::json::object()},
+                                     {"field_map", nlohmann::json::object()},
+                                     {"output", nlohmann::json::object()}};
+    for (const auto& [key, blocks] : skeleton.items()) {
+        if (!filled.contains(key)) filled[key] = nlohmann::json::object();
+        if (!filled[key].is_object()) continue;  // the reader refuses it with the path
+        for (const auto& [sub, empty] : blocks.items())
+            if (!filled[key].contains(sub)) filled[key][sub] = empty;
+    }
+    return filled;
+}
+
+}  // namespace
+
+MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std::string& tier) {
     MagneticsScene out;
     out.tier = tier;
+    const nlohmann::json scene = with_default_blocks(user_scene);
     SceneNode root(scene, out.resolved, "");
     root.text("description", "");
     EpmModel& m = out.request.model;
@@ -145,10 +170,6 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& scene, const std::stri
         mesh.far_size = node->quantity("far_size", L, mesh.far_size, Bounds::positive());
         mesh.air_box = node->quantity("air_box", L, mesh.air_box, Bounds::positive());
         node->finish();
-    } else {
-        auto& echo = root.resolved_child("mesh");
-        echo = {{"fluid_size", mesh.fluid_size}, {"device_size", mesh.device_size}, {"far_size", mesh.far_size},
-                {"air_box", mesh.air_box}};
     }
     const EpmLayout layout = epm_layout(m);
     const Vec3 extent = layout.device_hi - layout.device_lo;

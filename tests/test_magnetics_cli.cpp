@@ -1,0 +1,114 @@
+// `mrjam magnetics` end to end: refusals before any work, the circuit tier's report, and a 2D
+// run whose field map the engine's FieldMap reads back over the whole bore.
+#include <cmath>
+#include <doctest/doctest.h>
+
+#include "magnetic/external_field.hpp"
+#include "magnetics/getdp_problem.hpp"
+#include "test_support.hpp"
+
+using namespace mrjam_test;
+using nlohmann::json;
+
+namespace {
+
+Result run_magnetics(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam_test::mrjam(dir, "magnetics " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --quiet " + extra);
+}
+
+void expect_magnetics_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path,
+                              const std::string& extra = "") {
+    CAPTURE(label);
+    const Result r = run_magnetics(dir, label, scene, extra);
+    CHECK(r.exit_code == 2);
+    CAPTURE(r.err);
+    CHECK(r.err.find(path) != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("magnetics: bad scenes are refused with the field to fix and no report") {
+    TempDir dir;
+    const json base = {{"variant", "rectangular"}, {"model", "circuit"}};
+    json s = base;
+    s["bracket"] = {{"thicknes", "1 mm"}};
+    expect_magnetics_refused(dir, "typo", s, "/bracket/thicknes");
+    s = base;
+    s["valve"] = {{"constriction_diameter", "3 mm"}};
+    expect_magnetics_refused(dir, "wide_throat", s, "/valve/constriction_diameter");
+    s = base;
+    s["bracket"] = {{"thickness", "-1 mm"}};
+    expect_magnetics_refused(dir, "negative_bracket", s, "/bracket/thickness");
+    s = base;
+    s["bracket"] = {{"width", "3 mm"}};
+    expect_magnetics_refused(dir, "magnets_do_not_fit", s, "/bracket/width");
+    s = base;
+    s["variant"] = "round";
+    expect_magnetics_refused(dir, "variant", s, "/variant");
+    s = base;
+    s["valve"] = {{"constriction", "30x"}, {"constriction_diameter", "1 mm"}};
+    expect_magnetics_refused(dir, "both_throats", s, "/valve/constriction");
+    s = base;
+    s["state"] = "partial";
+    s["magnets"] = {{"alnico", {{"remanence", "1.4 T"}}}};
+    expect_magnetics_refused(dir, "partial_stronger", s, "/state");
+    s = base;
+    expect_magnetics_refused(dir, "circuit_map", s, "/model", "--field-map " + quote(dir.file("x.map")));
+    s = base;
+    s["model"] = "3d";
+    s["mesh"] = {{"air_box", "5 mm"}};
+    expect_magnetics_refused(dir, "small_air_box", s, "/mesh/air_box");
+}
+
+TEST_CASE("magnetics: the circuit tier reports the required keys and compares with the source") {
+    TempDir dir;
+    const Result r = run_magnetics(dir, "circuit", {{"variant", "rectangular"}, {"state", "on"}, {"model", "circuit"}});
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(slurp(dir.file("circuit_report.json")));
+    const json& res = report["results"];
+    for (const char* key : {"mean_B_active_T", "max_B_active_T", "mean_B_inactive_T", "uniformity_cv"}) {
+        CAPTURE(key);
+        CHECK(res[key].is_number());
+    }
+    CHECK(res["mean_B_active_T"].get<double>() > 0);
+    CHECK(res["max_B_active_T"].get<double>() >= res["mean_B_active_T"].get<double>());
+    CHECK(res["source_comparison"]["source_T"].get<double>() == doctest::Approx(0.2294));
+    CHECK(report["fidelity"]["model"] == "circuit");
+    CHECK(report["inputs"]["bracket"]["thickness"].get<double>() == doctest::Approx(1.4e-3));  // defaults echoed
+}
+
+TEST_CASE("magnetics: a 2D run writes a field map the engine reads over the whole bore, and a picture") {
+    if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
+    TempDir dir;
+    const json scene = {{"variant", "rectangular"},
+                        {"state", "on"},
+                        {"mesh", {{"fluid_size", "0.1 mm"}, {"device_size", "0.2 mm"}}},
+                        {"output", {{"directory", dir.file("work")}}}};
+    const std::string map = dir.file("field.map");
+    const Result r = run_magnetics(dir, "planar", scene, "--fidelity quick --field-map " + quote(map));
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(slurp(dir.file("planar_report.json")));
+    CHECK(report["fidelity"]["model"] == "2d");
+    const double mean = report["results"]["mean_B_active_T"].get<double>();
+    CHECK(mean > 0);
+    CHECK(std::filesystem::exists(dir.file("planar_report_B_midplane.png")));
+    CHECK_FALSE(std::filesystem::exists(dir.file("work/solver")));  // scratch removed after success
+    const auto field = mrjam::FieldMap::read(map);
+    const double rb = report["inputs"]["valve"]["tube_inner_diameter"].get<double>() / 2;
+    // The map covers the bore; |B| at the axis is of the order of the reported mean, and the
+    // transverse (y) component dominates, as the brackets put the field across the tube.
+    const mrjam::Vec3 centre = field.flux_density({0, 0, 0}, 0);
+    CHECK(std::abs(centre.y) > 3 * std::abs(centre.x));
+    CHECK(mrjam::norm(centre) > 0.3 * mean);
+    CHECK(mrjam::norm(centre) < 3 * mean);
+    CHECK(field.lower_corner().x <= -rb + 1e-12);
+    CHECK(field.upper_corner().x >= rb - 1e-12);
+}
+
+}  // TEST_SUITE
