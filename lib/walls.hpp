@@ -1,7 +1,9 @@
 #pragma once
-// Rigid walls: infinite planes (optionally moving) and cylinders (grains inside or outside).
+// Rigid walls: infinite planes (optionally moving), cylinders (grains inside or outside) and
+// passages (a surface of revolution: a valve bore with its constriction, grains inside).
 // A wall contact is a Hertz-Mindlin contact with a sphere of infinite radius and mass; its
 // tangential and rolling history is kept per grain.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -11,7 +13,7 @@
 namespace mrjam {
 
 struct Wall {
-    enum class Kind { plane, cylinder };
+    enum class Kind { plane, cylinder, passage };
     std::string name;
     Kind kind = Kind::plane;
     Vec3 point{};            // plane: a point on it; cylinder: a point on the axis
@@ -19,6 +21,9 @@ struct Wall {
     Vec3 axis{0, 0, 1};      // cylinder: unit axis
     double radius = 0;       // cylinder radius
     bool inside = true;      // cylinder: grains held inside
+    // passage: the wall's generatrix in the (radius, axial position) half-plane as a polyline
+    // with non-decreasing axial positions, about the axis through `point` along `axis`.
+    std::vector<std::array<double, 2>> profile;
     Vec3 velocity{};         // rigid translation (a moving plane; tangential part drives friction)
     std::uint16_t material = 0;
     std::vector<ContactHistory> history;  // per grain
@@ -27,6 +32,17 @@ struct Wall {
     // Overlap with a sphere and the contact normal pointing from the wall to the grain.
     // Returns false when not touching.
     bool touch(const Vec3& x, double r, double& overlap, Vec3& n) const;
+
+    // The passage's radius at axial position s (the narrowest where a step face sits at s).
+    double passage_radius(double s) const;
+
+private:
+    bool touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) const;
 };
+
+// The valve body's bore and constriction as a passage wall (geometry/valve.hpp's frame: axis z
+// through the origin); the ends are extended by `margin` so periodic images see no end.
+struct ValveGeometry;
+Wall passage_wall(const std::string& name, const ValveGeometry& valve, double margin);
 
 }  // namespace mrjam

@@ -77,13 +77,14 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
 }
 
 // Steps until the next event the step count fixes, at most `left` and at most 64 (so wall-clock
-// checks, progress and Ctrl-C stay responsive); 1 when an observer watches every step.
-long steps_until_event(const Scene& scene, long left, long step, bool observed) {
-    if (observed) return 1;
+// checks, progress and Ctrl-C stay responsive); observers are called every `observe_every`
+// steps (0: no observer).
+long steps_until_event(const Scene& scene, long left, long step, long observe_every) {
     long chunk = std::min(left, 64L);
     auto limit_to_multiple = [&](long every) {
         if (every > 0) chunk = std::min(chunk, every - step % every);
     };
+    limit_to_multiple(observe_every);
     if (scene.output.snapshots) limit_to_multiple(scene.output.snapshot_every);
     limit_to_multiple(scene.output.checkpoint_every_steps);
     return std::max(1L, chunk);
@@ -150,6 +151,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     const long start_step_count = done_before;
     const std::size_t n = s.particles.size();
 
+    bool ended_early = false;
     auto last_progress = Clock::now();
     auto last_checkpoint = Clock::now();
     std::string status = "complete";
@@ -173,12 +175,19 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 // Steps run in chunks that end at every event fixed by the step count (stage
                 // end, snapshot, step-counted checkpoint), so the fused integrator pass is used
                 // without moving any event; a per-step observer gets chunks of one.
-                const long chunk = steps_until_event(scene, st.steps - i, s.step, static_cast<bool>(observer));
+                const long every = observer || options.stage_finished ? std::max(1L, options.observe_every) : 0;
+                const long chunk = steps_until_event(scene, st.steps - i, s.step, every);
                 advance_steps(s, chunk);
                 i += chunk;
                 done_before += chunk;
                 pos.step_in_stage = i;
-                if (observer) observer(s, k, i);
+                const bool observation = every > 0 && s.step % every == 0;
+                if (observer && observation) observer(s, k, i);
+                if (options.stage_finished && observation && options.stage_finished(s, k)) {
+                    done_before += st.steps - i;  // the skipped steps count as done for the ETA
+                    ended_early = true;
+                    break;
+                }
                 if (scene.output.snapshots && s.step % scene.output.snapshot_every == 0) {
                     const auto path = std::filesystem::path(scene.output.directory) /
                                       ("snapshot_" + std::to_string(s.step) + snapshot_extension(scene.output.snapshot_format));
@@ -201,7 +210,9 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 if (interrupt_requested()) break;
             }
             if (interrupt_requested()) { status = "interrupted"; break; }
-            stage_log.push_back({{"name", st.name}, {"steps", st.steps}, {"end_time_s", s.time}, {"state", state_summary(s)}});
+            stage_log.push_back({{"name", st.name}, {"steps", i}, {"ended_early", ended_early}, {"end_time_s", s.time},
+                                 {"state", state_summary(s)}});
+            ended_early = false;
             pos = ProtocolPosition{k + 1, 0, false};
         }
     } catch (const BlowUp& e) {

@@ -19,6 +19,12 @@ struct RunOptions {
     // When resuming: the stage log the checkpoint carried (CheckpointHeader::history), so the
     // report and later checkpoints still list the stages finished before it. Null otherwise.
     nlohmann::json resumed_stage_log;
+    // The observer (and stage_finished) run every `observe_every` steps: 1 for per-step
+    // statistics; larger keeps the fused multi-step integrator pass.
+    long observe_every = 1;
+    // Checked at each observation: true ends the current stage early (a mode's stopping
+    // criterion, such as flow arrest). The stage log records the steps actually run.
+    std::function<bool(const System&, std::size_t stage)> stage_finished;
 };
 
 struct RunOutcome {
@@ -26,7 +32,7 @@ struct RunOutcome {
     int exit_status = 0;  // 0 complete, 130 interrupted (checkpoint written), 3 blow-up
 };
 
-// Called after every step; a mode uses it to observe (flux, stress samples). It must not change
+// Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress samples). It must not change
 // the state. It receives the stage index and the step within the stage.
 using StepObserver = std::function<void(const System&, std::size_t stage, long step_in_stage)>;
 
