@@ -85,7 +85,7 @@ TEST_CASE("magnetic circuit estimate: linearity, exact OFF cancellation, variant
     CHECK(circuit_field(off).mean_b_active == doctest::Approx(0.0).epsilon(1e-15));
     EpmModel insert = m;
     insert.bracket.variant = BracketVariant::insert;
-    CHECK(circuit_field(insert).mean_b_active > 1.5 * on);
+    CHECK(circuit_field(insert).mean_b_active > on);  // iron replaces air in series with the fluid
     EpmModel unguided = m;
     unguided.bracket.variant = BracketVariant::unguided;
     CHECK(circuit_field(unguided).mean_b_active < 0.5 * on);
