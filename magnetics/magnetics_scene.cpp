@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scene/scene_node.hpp"
+#include "scene/scene_parts.hpp"
 
 namespace mrjam::magnetics {
 
@@ -26,25 +27,6 @@ namespace {
 void read_magnet(SceneNode node, MagnetMaterial& m) {
     m.remanence = node.quantity("remanence", units::magnetic_flux_density, m.remanence, Bounds::non_negative());
     m.recoil_permeability = node.number("recoil_permeability", m.recoil_permeability, Bounds::closed(1.0, 1e6));
-    node.finish();
-}
-
-void read_valve(SceneNode node, ValveGeometry& v) {
-    const auto L = units::length;
-    v.tube_inner_diameter = node.quantity("tube_inner_diameter", L, v.tube_inner_diameter, Bounds::positive());
-    v.wall_thickness = node.quantity("wall_thickness", L, v.wall_thickness, Bounds::any());
-    if (node.has("constriction") && node.has("constriction_diameter"))
-        node.fail("constriction", "give either a preset name (constriction) or constriction_diameter, not both");
-    if (node.has("constriction")) {
-        const std::string preset = node.choice("constriction", constriction_preset_names(), std::nullopt);
-        v.constriction_diameter = constriction_preset(preset);
-    } else {
-        v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
-    }
-    v.taper_length = node.quantity("taper_length", L, v.taper_length, Bounds::any());
-    v.throat_length = node.quantity("throat_length", L, v.throat_length, Bounds::any());
-    v.upstream_length = node.quantity("upstream_length", L, v.upstream_length, Bounds::any());
-    v.downstream_length = node.quantity("downstream_length", L, v.downstream_length, Bounds::any());
     node.finish();
 }
 
@@ -118,7 +100,8 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
 
     m.bracket.variant = variant_from_name(root.choice("variant", variant_names(), "rectangular"));
     out.state = root.choice("state", {"on", "off", "partial"}, "on");
-    if (auto valve = root.optional_object("valve")) read_valve(*valve, m.valve);
+    // The valve alone is checked first (its own paths); the EPM's checks follow.
+    if (auto valve = root.optional_object("valve")) m.valve = read_valve(*valve);
     if (auto magnets = root.optional_object("magnets")) {
         auto& mg = m.magnets;
         mg.width = magnets->quantity("width", L, mg.width, Bounds::any());

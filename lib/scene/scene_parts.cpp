@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "fluid/valve_flow.hpp"
+
 namespace mrjam {
 
 int read_axis(SceneNode& node, const std::string& key, std::optional<std::string> fallback) {
@@ -60,10 +62,16 @@ SizeDistribution read_size_distribution(SceneNode node) {
 }
 
 std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
-    const std::string type = node.choice("type", {"still", "uniform", "couette", "axial"}, "still");
+    const std::string type = node.choice("type", {"still", "uniform", "couette", "axial", "valve"}, "still");
     std::shared_ptr<FlowField> flow;
     if (type == "still") {
         flow = std::make_shared<StillFlow>();
+    } else if (type == "valve") {
+        // The source's profile through the valve (fluid/valve_flow.hpp): `bore_speed` inside the
+        // constriction's diameter in the bore, raised by the area ratio inside the constriction.
+        const ValveGeometry valve = read_valve(node.object("valve"));
+        const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
+        flow = std::make_shared<ValveFlow>(valve, speed);
     } else if (type == "uniform") {
         flow = std::make_shared<UniformFlow>(node.vector("velocity", units::velocity, std::nullopt));
     } else if (type == "couette") {
@@ -114,10 +122,18 @@ std::uint16_t material_index(SceneNode& node, const std::string& key, const std:
 Wall read_wall(SceneNode node, const std::vector<std::string>& material_names) {
     Wall w;
     w.name = node.text("name", std::nullopt);
-    const std::string type = node.choice("type", {"plane", "cylinder"}, std::nullopt);
+    const std::string type = node.choice("type", {"plane", "cylinder", "passage"}, std::nullopt);
     w.material = material_index(node, "material", material_names, material_names.front());
     w.velocity = node.vector("velocity", units::velocity, Vec3{});
-    if (type == "plane") {
+    if (type == "passage") {
+        // The valve's bore and constriction about the z axis (geometry/valve.hpp frame), extended
+        // past the modelled length so periodic images never meet its ends.
+        const ValveGeometry valve = read_valve(node.object("valve"));
+        const std::string name = w.name;
+        const auto material = w.material;
+        w = passage_wall(name, valve, valve.upstream_length + valve.downstream_length);
+        w.material = material;
+    } else if (type == "plane") {
         w.kind = Wall::Kind::plane;
         w.point = node.vector("point", units::length, std::nullopt);
         const Vec3 n = node.vector("normal", units::dimensionless, std::nullopt);
@@ -134,6 +150,31 @@ Wall read_wall(SceneNode node, const std::vector<std::string>& material_names) {
     }
     node.finish();
     return w;
+}
+
+ValveGeometry read_valve(SceneNode node) {
+    ValveGeometry v;
+    const auto L = units::length;
+    v.tube_inner_diameter = node.quantity("tube_inner_diameter", L, v.tube_inner_diameter, Bounds::positive());
+    v.wall_thickness = node.quantity("wall_thickness", L, v.wall_thickness, Bounds::any());
+    if (node.has("constriction") && node.has("constriction_diameter"))
+        node.fail("constriction", "give either a preset name (constriction) or constriction_diameter, not both");
+    if (node.has("constriction"))
+        v.constriction_diameter = constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
+    else
+        v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
+    v.taper_length = node.quantity("taper_length", L, v.taper_length, Bounds::any());
+    v.throat_length = node.quantity("throat_length", L, v.throat_length, Bounds::any());
+    v.upstream_length = node.quantity("upstream_length", L, v.upstream_length, Bounds::any());
+    v.downstream_length = node.quantity("downstream_length", L, v.downstream_length, Bounds::any());
+    node.finish();
+    const auto problems = v.problems();
+    if (!problems.empty()) {
+        const std::string& first = problems.front();
+        const auto colon = first.find(": ");
+        throw SceneError(node.path() + "/" + first.substr(0, colon), first.substr(colon + 2));
+    }
+    return v;
 }
 
 }  // namespace mrjam

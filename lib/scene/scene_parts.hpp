@@ -6,6 +6,7 @@
 #include "fluid/flow_field.hpp"
 #include "geometry/region.hpp"
 #include "geometry/size_distribution.hpp"
+#include "geometry/valve.hpp"
 #include "scene/scene_node.hpp"
 #include "walls.hpp"
 
@@ -16,6 +17,9 @@ Region read_region(SceneNode node, const Domain& domain);
 SizeDistribution read_size_distribution(SceneNode node);
 std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain);
 Wall read_wall(SceneNode node, const std::vector<std::string>& material_names);
+// The valve body's bore and constriction (geometry/valve.hpp), shared by `mrjam magnetics`,
+// passage walls, valve flows and `mrjam jam`: every key optional, refused if impossible.
+ValveGeometry read_valve(SceneNode node);
 std::uint16_t material_index(SceneNode& node, const std::string& key, const std::vector<std::string>& names,
                              std::optional<std::string> fallback);
 

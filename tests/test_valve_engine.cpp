@@ -1,0 +1,91 @@
+// The valve in the engine: the passage wall's contact geometry (bore, cone, orifice lip) and the
+// source's flow profile (values, and the same flow rate through every section).
+#include <cmath>
+#include <doctest/doctest.h>
+
+#include "fluid/valve_flow.hpp"
+#include "walls.hpp"
+
+using namespace mrjam;
+
+namespace {
+
+// A grain of radius r whose centre sits at distance (r - overlap) from the surface point
+// (rho_w, z_w) of the generatrix along the in-plane unit direction (nr, nz), at azimuth phi.
+Vec3 place(double rho_w, double z_w, double nr, double nz, double r, double overlap, double phi) {
+    const double d = r - overlap;
+    const double rho = rho_w + d * nr;
+    return {rho * std::cos(phi), rho * std::sin(phi), z_w + d * nz};
+}
+
+void check_contact(const Wall& wall, const Vec3& x, double r, double expected_overlap, const Vec3& expected_normal) {
+    double overlap = 0;
+    Vec3 n;
+    REQUIRE(wall.touch(x, r, overlap, n));
+    CHECK(overlap == doctest::Approx(expected_overlap).epsilon(1e-9));
+    CHECK(norm(n - expected_normal) < 1e-9);
+}
+
+}  // namespace
+
+TEST_SUITE("physics") {
+
+TEST_CASE("passage wall: overlap and normal on the bore, the cone and the orifice lip") {
+    ValveGeometry v;  // bore 2.6 mm, throat 1.32 mm, taper 0.8 mm, throat 0.2 mm
+    const Wall wall = passage_wall("valve", v, 1e-3);
+    const double r = 20e-6, delta = 1e-7;
+    const double rb = v.bore_radius(), rt = v.throat_radius();
+    for (double phi : {0.0, 0.7, 2.0, -2.5}) {
+        CAPTURE(phi);
+        const Vec3 e_r{std::cos(phi), std::sin(phi), 0};
+        // Bore, upstream: the normal points to the axis.
+        check_contact(wall, place(rb, -3e-3, -1, 0, r, delta, phi), r, delta, -e_r);
+        // Cone: the inward normal of the generatrix from (rb, zs) to (rt, zt).
+        const double zs = v.taper_start_z(), zt = -0.5 * v.throat_length;
+        const double len = std::hypot(rb - rt, zt - zs);
+        const double nr = -(zt - zs) / len, nz = -(rb - rt) / len;
+        const double t = 0.4;
+        check_contact(wall, place(rb + t * (rt - rb), zs + t * (zt - zs), nr, nz, r, delta, phi), r, delta,
+                      e_r * nr + Vec3{0, 0, nz});
+        // Orifice lip (the corner at the throat exit): the normal runs from the corner to the centre.
+        const double a = std::cos(0.6), b = std::sin(0.6);
+        check_contact(wall, place(rt, v.throat_end_z(), -a, b, r, delta, phi), r, delta, e_r * (-a) + Vec3{0, 0, b});
+        // The step face downstream of the lip: the normal points downstream.
+        check_contact(wall, place(0.5 * (rt + rb), v.throat_end_z(), 0, 1, r, delta, phi), r, delta, Vec3{0, 0, 1});
+    }
+    // Clear of every surface: no contact.
+    double overlap;
+    Vec3 n;
+    CHECK_FALSE(wall.touch({0, 0, 0}, r, overlap, n));
+    CHECK_FALSE(wall.touch({rb - 2 * r, 0, -3e-3}, r, overlap, n));
+    CHECK(wall.passage_radius(0.0) == doctest::Approx(rt));
+    CHECK(wall.passage_radius(-3e-3) == doctest::Approx(rb));
+}
+
+TEST_CASE("valve flow: the source's profile and one flow rate through every section") {
+    ValveGeometry v;
+    const double U = 0.273;
+    const ValveFlow flow(v, U);
+    const double rb = v.bore_radius(), rt = v.throat_radius();
+    // In the bore: U inside the constriction's diameter, linear to 0 at the bore wall.
+    CHECK(flow.velocity({0, 0, -3e-3}, 0).z == doctest::Approx(U));
+    CHECK(flow.velocity({rt, 0, -3e-3}, 0).z == doctest::Approx(U));
+    CHECK(flow.velocity({0, 0.5 * (rt + rb), -3e-3}, 0).z == doctest::Approx(0.5 * U));
+    CHECK(flow.velocity({rb * 1.0001, 0, -3e-3}, 0).z == 0.0);
+    // In the throat: raised by (D/d)^2.
+    CHECK(flow.velocity({0, 0, 0}, 0).z == doctest::Approx(U * (rb / rt) * (rb / rt)));
+    // Flow rate by midpoint quadrature over the section, at the bore, mid-taper and throat.
+    for (double z : {-3e-3, v.taper_start_z() + 0.5 * v.taper_length, 0.0, 2e-3}) {
+        CAPTURE(z);
+        const double R = v.passage_radius(z);
+        const int n = 20000;
+        double q = 0;
+        for (int i = 0; i < n; ++i) {
+            const double rho = (i + 0.5) * R / n;
+            q += flow.velocity({rho, 0, z}, 0).z * 2 * M_PI * rho * R / n;
+        }
+        CHECK(q == doctest::Approx(flow.reference_flow_rate()).epsilon(1e-6));
+    }
+}
+
+}  // TEST_SUITE
