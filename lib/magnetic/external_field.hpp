@@ -2,6 +2,7 @@
 // The applied magnetic field B_ext(x, t) and its gradient. A uniform field exerts no force on a
 // dipole; a real EPM valve's field does, through grad(m . B_ext) (eq. 4.6).
 #include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,6 +72,29 @@ private:
     Vec3 origin_, spacing_;
     std::vector<Vec3> values_;
     double scale_;
+};
+
+// Another field switched on and off at times a mode decides while running (the jam predictor
+// switches the magnet off when the flow has arrested). Zero before `on` and from `off` on.
+class SwitchedField final : public ExternalField {
+public:
+    explicit SwitchedField(std::shared_ptr<ExternalField> inner, double on = 0.0,
+                           double off = std::numeric_limits<double>::infinity())
+        : inner_(std::move(inner)), on_(on), off_(off) {}
+    Vec3 flux_density(const Vec3& x, double time) const override {
+        return active(time) ? inner_->flux_density(x, time) : Vec3{};
+    }
+    Gradient gradient(const Vec3& x, double time) const override {
+        return active(time) ? inner_->gradient(x, time) : Gradient{};
+    }
+    bool uniform() const override { return inner_->uniform(); }
+    std::string name() const override { return inner_->name(); }
+    void switch_off_at(double time) { off_ = time; }
+    bool active(double time) const { return time >= on_ && time < off_; }
+
+private:
+    std::shared_ptr<ExternalField> inner_;
+    double on_, off_;
 };
 
 }  // namespace mrjam

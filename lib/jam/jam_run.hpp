@@ -1,0 +1,26 @@
+#pragma once
+// One jam-prediction run: flow without field, field on until the throat's grain flux arrests
+// (or the time runs out), then the field off to test the release (Table 3.2's
+// "Fail-Irreversible" is a jam that stays). Results follow section 3.4.4 of the source.
+#include <nlohmann/json.hpp>
+
+#include "jam/jam_scene.hpp"
+
+namespace mrjam {
+
+struct JamRunOptions {
+    int threads = 1;
+    bool progress = true;
+    std::string picture_path;  // "" for none
+};
+
+struct JamOutcome {
+    nlohmann::json report;     // the engine's report with results.jam filled in
+    int exit_status = 0;       // 0, 3 blow-up, 130 interrupted (partial flux history kept)
+    bool jammed = false;
+    double time_to_arrest = -1;
+};
+
+JamOutcome run_jam(const JamScene& scene, long long seed, const JamRunOptions& options);
+
+}  // namespace mrjam

@@ -1,0 +1,219 @@
+#include "jam/jam_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <tuple>
+
+#include "magnetic/external_field.hpp"
+#include "scene/scene_node.hpp"
+#include "scene/scene_parts.hpp"
+
+namespace mrjam {
+
+std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper"}; }
+
+namespace {
+
+// The source's two mass tables (section 3.4.4). As printed, the percentages sum to 122; mrjam
+// reads them as relative mass (= volume, one density) shares and normalises them to 1.
+struct MassTable { std::vector<double> diameters, mass; };
+MassTable preset_table(const std::string& name) {
+    const std::vector<double> mass{44, 35, 24.2, 13.2, 5.6};
+    if (name == "44um") return {{44e-6, 38.9e-6, 33.8e-6, 28.7e-6, 23.6e-6}, mass};
+    return {{10e-6, 9.49e-6, 8.98e-6, 8.47e-6, 7.96e-6}, mass};
+}
+
+// Slab thickness (in largest-grain diameters) and modelled tube length per tier.
+struct TierSettings { double slab_diameters; double upstream, downstream; };
+TierSettings tier_settings(const std::string& tier) {
+    if (tier == "quick") return {3.0, 1.0e-3, 0.5e-3};
+    if (tier == "paper") return {0.0, 2.0e-3, 1.0e-3};  // the full bore
+    return {6.0, 1.5e-3, 0.75e-3};
+}
+
+json vec(double x, double y, double z) { return json::array({x, y, z}); }
+
+}  // namespace
+
+JamScene read_jam_scene(const json& user, const std::string& tier, const std::string& base_directory) {
+    JamScene out;
+    out.tier = tier;
+    if (!user.is_object()) throw SceneError("", "a jam scene is a JSON object");
+    json scene = user;
+    for (const char* key : {"valve", "grains", "material", "fluid", "field", "protocol", "model", "output"})
+        if (!scene.contains(key)) scene[key] = json::object();
+    SceneNode root(scene, out.resolved, "");
+    root.text("description", "");
+    const long long seed = root.integer("seed", 1, 0);
+    const TierSettings ts = tier_settings(tier);
+
+    // Model size (tier defaults, scene wins).
+    SceneNode model = root.object("model");
+    const double slab_diameters = model.number("slab_thickness_diameters", ts.slab_diameters, Bounds::non_negative());
+    const double upstream = model.quantity("upstream_length", units::length, ts.upstream, Bounds::positive());
+    const double downstream = model.quantity("downstream_length", units::length, ts.downstream, Bounds::positive());
+    model.finish();
+
+    // The valve: the model's lengths replace the valve's own unless the valve gives them.
+    json valve_in = scene["valve"];
+    if (valve_in.is_object()) {
+        if (!valve_in.contains("upstream_length")) valve_in["upstream_length"] = upstream;
+        if (!valve_in.contains("downstream_length")) valve_in["downstream_length"] = downstream;
+    }
+    json valve_echo;
+    out.valve = read_valve(SceneNode(valve_in, valve_echo, "/valve"));
+    root.resolved_child("valve") = valve_echo;
+    root.raw("valve");
+    const ValveGeometry& v = out.valve;
+
+    // Grains.
+    SceneNode grains = root.object("grains");
+    MassTable table;
+    if (grains.has("diameters")) {
+        table.diameters = grains.quantity_list("diameters", units::length, Bounds::positive());
+        table.mass = grains.quantity_list("mass_fractions", units::dimensionless, Bounds::non_negative());
+        if (table.diameters.empty()) grains.fail("diameters", "the size table is empty; give at least one diameter");
+        if (table.mass.size() != table.diameters.size())
+            grains.fail("mass_fractions", "needs one entry per diameter (" + std::to_string(table.diameters.size()) + ")");
+        if (std::accumulate(table.mass.begin(), table.mass.end(), 0.0) <= 0)
+            grains.fail("mass_fractions", "must not all be zero");
+    } else {
+        table = preset_table(grains.choice("psd", {"44um", "10um"}, "44um"));
+    }
+    const double fraction = grains.number("volume_fraction", 0.345, Bounds::open(0.0, 0.64));
+    grains.finish();
+    out.largest_diameter = *std::max_element(table.diameters.begin(), table.diameters.end());
+    if (out.largest_diameter >= v.constriction_diameter)
+        throw SceneError("/valve/constriction_diameter", "the throat is not wider than the largest grain (" +
+                                                             std::to_string(out.largest_diameter * 1e6) +
+                                                             " um); widen it or use finer grains");
+
+    // Material (the source's contact properties; restitution and Poisson's ratio not printed).
+    SceneNode mat = root.object("material");
+    json material = {{"name", "iron"},
+                     {"density", mat.quantity("density", units::density, 7800.0, Bounds::positive())},
+                     {"youngs_modulus", mat.quantity("youngs_modulus", units::pressure, 1e9, Bounds::positive())},
+                     {"poisson_ratio", mat.number("poisson_ratio", 0.3, Bounds::closed(0.0, 0.5))},
+                     {"restitution", mat.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0))},
+                     {"friction", mat.number("friction", 0.4, Bounds::non_negative())},
+                     {"relative_permeability", mat.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7))}};
+    mat.finish();
+
+    SceneNode fluid = root.object("fluid");
+    const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
+    const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
+    fluid.choice("flow", {"prescribed"}, "prescribed");
+    fluid.finish();
+
+    // Field: uniform across the valve (y) or a map from `mrjam magnetics`.
+    SceneNode field = root.object("field");
+    out.field_type = field.choice("type", {"uniform", "map"}, "uniform");
+    json field_json;
+    const double rb = v.bore_radius();
+    out.slab_half_thickness = slab_diameters > 0 ? 0.5 * slab_diameters * out.largest_diameter : 0.0;
+    const double hx = out.slab_half_thickness > 0 ? std::min(out.slab_half_thickness, rb) : rb;
+    if (out.field_type == "uniform") {
+        const double b = field.quantity("flux_density", units::magnetic_flux_density, 0.230, Bounds::non_negative());
+        const Vec3 dir = field.vector("direction", units::dimensionless, Vec3{0, 1, 0});
+        if (norm(dir) == 0) field.fail("direction", "must be a non-zero vector");
+        const Vec3 b0 = dir * (b / norm(dir));
+        field_json = {{"type", "uniform"}, {"flux_density", vec(b0.x, b0.y, b0.z)}};
+    } else {
+        std::string file = field.text("file", std::nullopt);
+        const double scale = field.number("scale", 1.0, Bounds::non_negative());
+        std::filesystem::path path(file);
+        if (path.is_relative() && !base_directory.empty()) path = std::filesystem::path(base_directory) / path;
+        FieldMap map = [&] {
+            try {
+                return FieldMap::read(path.string());
+            } catch (const std::exception& e) {
+                throw SceneError("/field/file", e.what());
+            }
+        }();
+        const Vec3 lo = map.lower_corner(), hi = map.upper_corner();
+        const double tol = 1e-9;
+        if (lo.x > -hx + tol || hi.x < hx - tol || lo.y > -rb + tol || hi.y < rb - tol || lo.z > -v.upstream_length + tol ||
+            hi.z < v.downstream_length - tol)
+            throw SceneError("/field/file", "the field map does not cover the modelled valve (x " + std::to_string(-hx) +
+                                                "..." + std::to_string(hx) + ", y +-" + std::to_string(rb) + ", z " +
+                                                std::to_string(-v.upstream_length) + "..." +
+                                                std::to_string(v.downstream_length) +
+                                                " m); solve it with the same valve (mrjam magnetics --field-map)");
+        field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
+    }
+    field.finish();
+
+    SceneNode protocol = root.object("protocol");
+    JamProtocol& p = out.protocol;
+    p.flow_time = protocol.quantity("flow_time", units::time, p.flow_time, Bounds::positive());
+    p.max_time = protocol.quantity("max_time", units::time, p.max_time, Bounds::positive());
+    p.arrest_window = protocol.quantity("arrest_window", units::time, p.arrest_window, Bounds::positive());
+    p.arrest_fraction = protocol.number("arrest_fraction", p.arrest_fraction, Bounds::any());
+    if (!(p.arrest_fraction > 0 && p.arrest_fraction < 1))
+        protocol.fail("arrest_fraction", "must lie in (0, 1): arrest is flux below this share of the no-field flux "
+                                         "(zero would never be reached by a noisy count)");
+    p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
+    p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
+    p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);
+    if (p.arrest_window >= p.max_time) protocol.fail("arrest_window", "must be shorter than max_time");
+    protocol.finish();
+
+    SceneNode output = root.object("output");
+    const std::string directory = output.text("directory", "out/jam");
+    const long long snapshot_every = output.integer("snapshot_every_steps", 0, 0);
+    output.finish();
+    root.finish();
+
+    // The engine scene.
+    const double d_up = v.upstream_length, d_down = v.downstream_length;
+    const double inset = 1e-9;
+    json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter}, {"wall_thickness", v.wall_thickness},
+                     {"constriction_diameter", v.constriction_diameter}, {"taper_length", v.taper_length},
+                     {"throat_length", v.throat_length}, {"upstream_length", d_up}, {"downstream_length", d_down}};
+    json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
+    if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb) {
+        walls.push_back({{"name", "slab_low"}, {"type", "plane"}, {"point", vec(-hx, 0, 0)}, {"normal", vec(1, 0, 0)}});
+        walls.push_back({{"name", "slab_high"}, {"type", "plane"}, {"point", vec(hx, 0, 0)}, {"normal", vec(-1, 0, 0)}});
+    }
+    // Grains start in the straight bore either side of the constriction (a box inside the
+    // slab's chord of the bore, or a cylinder for the full bore); the flow fills the throat
+    // during the no-field period.
+    // The constriction is filled too (inside the throat's radius), so grains cross the throat
+    // from the start and the no-field flux is measured in the first flow period.
+    auto region = [&](double z0, double z1, double radius) {
+        const double y = std::sqrt(std::max(0.0, radius * radius - hx * hx));
+        if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb)
+            return json{{"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
+        return json{{"shape", "cylinder"}, {"axis", "z"}, {"base", vec(0, 0, z0)}, {"radius", radius}, {"length", z1 - z0}};
+    };
+    json size = {{"distribution", "table"}, {"diameters", table.diameters}, {"frequencies", table.mass}, {"basis", "volume"}};
+    json batches = json::array();
+    for (const auto& [z0, z1, radius] : {std::tuple{-d_up, v.taper_start_z(), rb},
+                                         std::tuple{v.taper_start_z(), v.throat_end_z(), v.throat_radius()},
+                                         std::tuple{v.throat_end_z(), d_down, rb}})
+        batches.push_back({{"material", "iron"}, {"size", size},
+                           {"placement", {{"method", "random"}, {"volume_fraction", fraction}, {"region", region(z0, z1, radius)}}}});
+    const double throat_speed = bore_speed * std::pow(rb / v.throat_radius(), 2);
+    json output_json = {{"directory", directory}};
+    if (snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", snapshot_every}};
+    out.engine_scene = {
+        {"description", "mrjam jam: generated from the jam scene"},
+        {"seed", seed},
+        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
+        {"materials", json::array({material})},
+        {"contact", {{"model", "hertz_mindlin"}}},
+        {"fluid", {{"viscosity", viscosity}, {"flow", {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}}}}},
+        {"walls", walls},
+        {"grains", batches},
+        {"magnetic", {{"field", field_json}}},
+        {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
+        {"stages", json::array({{{"name", "flow"}, {"duration", p.flow_time}},
+                                {{"name", "field_on"}, {"duration", p.max_time}},
+                                {{"name", "release"}, {"duration", std::max(p.release_time, 1e-12)}}})},
+        {"output", output_json}};
+    return out;
+}
+
+}  // namespace mrjam

@@ -1,0 +1,43 @@
+#pragma once
+// A `mrjam jam` scene: a valve, a fluid, a grain mix, a field and a protocol, turned into an
+// engine scene (the generic JSON `mrjam run` reads) plus the settings of the jam protocol.
+//
+// The supply is kept steady by making the modelled stretch of tube periodic along the flow:
+// grains that leave downstream re-enter upstream at the same radius, so the throat sees a
+// constant feed at the mix's volume fraction without inflow/outflow bookkeeping (the bore far
+// from the throat is a straight cylinder, so the seam is invisible to it).
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/valve.hpp"
+
+namespace mrjam {
+
+struct JamProtocol {
+    double flow_time = 1e-3;        // s, flow with no field (the source: 1 ms)
+    double max_time = 3e-3;         // s, with the field, unless arrest comes first
+    double arrest_window = 0.2e-3;  // s, the flux must stay low this long
+    double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux
+    double release_time = 1e-3;     // s, field off after an arrest
+    double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
+    long observe_every = 50;        // steps between flux observations
+};
+
+struct JamScene {
+    nlohmann::json engine_scene;    // for build_scene()
+    nlohmann::json resolved;        // the jam scene with defaults, for the report
+    JamProtocol protocol;
+    ValveGeometry valve;
+    double slab_half_thickness = 0; // 0: the full bore
+    double largest_diameter = 0;
+    std::string field_type;         // uniform or map
+    std::string tier;
+};
+
+std::vector<std::string> jam_tier_names();
+// Throws SceneError (path + fix) for bad or impossible input. `base_directory` resolves a field
+// map's relative path.
+JamScene read_jam_scene(const nlohmann::json& scene, const std::string& tier, const std::string& base_directory);
+
+}  // namespace mrjam

@@ -1,0 +1,46 @@
+#include "jam/throat_flux.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mrjam {
+
+void ThroatFlux::observe(const System& s) {
+    const auto& x = s.particles.position;
+    const double half_period = 0.5 * (s.domain.hi.z - s.domain.lo.z);
+    if (previous_z_.size() != x.size()) {
+        previous_z_.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) previous_z_[i] = x[i].z;
+        history_.push_back({s.time, passed_});
+        return;
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double before = previous_z_[i], now = x[i].z;
+        if (std::abs(now - before) < half_period) {
+            if (before < plane_ && now >= plane_) ++passed_;
+            else if (before >= plane_ && now < plane_) --passed_;
+        }
+        previous_z_[i] = now;
+    }
+    history_.push_back({s.time, passed_});
+}
+
+double ThroatFlux::rate_between(double t0, double t1) const {
+    if (history_.size() < 2 || !(t1 > t0)) return 0.0;
+    auto at = [&](double t) {
+        auto it = std::lower_bound(history_.begin(), history_.end(), t,
+                                   [](const auto& h, double v) { return h.first < v; });
+        if (it == history_.end()) return static_cast<double>(history_.back().second);
+        return static_cast<double>(it->second);
+    };
+    return (at(t1) - at(t0)) / (t1 - t0);
+}
+
+double ThroatFlux::rate(double window) const {
+    if (history_.size() < 2) return 0.0;
+    const double t1 = history_.back().first;
+    if (t1 - history_.front().first < window) return 0.0;
+    return rate_between(t1 - window, t1);
+}
+
+}  // namespace mrjam

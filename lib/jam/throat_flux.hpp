@@ -1,0 +1,31 @@
+#pragma once
+// Grain flux through the throat: net crossings of the plane z = plane in +z (the flow
+// direction), counted from the grains' axial positions at successive observations. In a domain
+// periodic along z a wrap is not a crossing (a displacement of half the period or more).
+#include <utility>
+#include <vector>
+
+#include "system.hpp"
+
+namespace mrjam {
+
+class ThroatFlux {
+public:
+    explicit ThroatFlux(double plane = 0.0) : plane_(plane) {}
+    void observe(const System& s);
+    long passed() const { return passed_; }
+    // (time, net grains passed so far) at every observation.
+    const std::vector<std::pair<double, long>>& history() const { return history_; }
+    // Grains per second over the last `window` seconds of history (0 if shorter).
+    double rate(double window) const;
+    // Grains per second between two times (linear in the recorded history).
+    double rate_between(double t0, double t1) const;
+
+private:
+    double plane_;
+    std::vector<double> previous_z_;
+    long passed_ = 0;
+    std::vector<std::pair<double, long>> history_;
+};
+
+}  // namespace mrjam
