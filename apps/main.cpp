@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     mrjam::cli::add_bench_command(app, exit_status);
     mrjam::cli::add_magnetics_command(app, exit_status);
     mrjam::cli::add_jam_command(app, exit_status);
+    mrjam::cli::add_design_command(app, exit_status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -4,6 +4,7 @@
 
 #include "jam/contact_clusters.hpp"
 #include "jam/throat_flux.hpp"
+#include "magnetics/getdp_problem.hpp"
 #include "test_support.hpp"
 
 using namespace mrjam;
@@ -83,6 +84,44 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(res["flux_history"]["rows"].size() > 2);
     CHECK(std::filesystem::exists(dir.file("jam_report_throat.png")));
     CHECK(report["fidelity"]["jam_tier"] == "quick");
+}
+
+}  // TEST_SUITE
+
+TEST_SUITE("cli") {
+
+// The design chain end to end on one constriction with a coarse field mesh and a short run:
+// the field map written for the constriction must drive the jam run, and the report must name
+// the jam probability and the open-state flow estimate.
+TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
+    if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
+    TempDir dir;
+    const json design = {
+        {"constrictions", {"30x"}},
+        {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
+        {"jam", {{"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                 {"fluid", {{"flow", "pressure"}}},
+                 {"protocol", {{"flow_time", "0.05 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"},
+                               {"release_time", "0.02 ms"}}}}},
+        {"output_directory", dir.file("design")}};
+    write_text(dir.file("design.json"), design.dump());
+    const Result r = mrjam_test::mrjam(dir, "design " + quote(dir.file("design.json")) + " --report " +
+                                                quote(dir.file("design_report.json")) + " --fidelity quick --quiet");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(slurp(dir.file("design_report.json")));
+    const json& row = report["results"]["constrictions"][0];
+    CHECK(row["constriction"] == "30x");
+    CHECK(row["mean_B_active_T"].get<double>() > 0.05);
+    CHECK(row["jam_probability"].is_number());
+    CHECK(row["open_flow_rate_m3_s"].get<double>() > 0);
+    CHECK(std::filesystem::exists(dir.file("design/30x/field.map")));
+    CHECK(report["results"].contains("widest_reliable_constriction"));
+
+    write_text(dir.file("bad.json"), json{{"constrictions", {"30x"}}, {"magnet", json::object()}}.dump());
+    const Result bad = mrjam_test::mrjam(dir, "design " + quote(dir.file("bad.json")) + " --quiet");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("/magnet") != std::string::npos);
 }
 
 }  // TEST_SUITE

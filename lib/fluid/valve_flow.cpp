@@ -5,13 +5,13 @@
 
 namespace mrjam {
 
-Vec3 ValveFlow::velocity(const Vec3& x, double) const {
+Vec3 ValveFlow::unscaled(const Vec3& x) const {
     const double R = valve_.passage_radius(x.z);
     const double r = std::hypot(x.x, x.y);
     if (r >= R) return {};
     const double ratio = valve_.bore_radius() / R;
     const double plug = R * valve_.throat_radius() / valve_.bore_radius();
-    const double peak = speed_ * ratio * ratio * scale();
+    const double peak = speed_ * ratio * ratio;
     const double u = r <= plug ? peak : peak * (R - r) / (R - plug);
     return {0, 0, u};
 }

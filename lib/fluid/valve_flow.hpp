@@ -20,7 +20,8 @@ namespace mrjam {
 class ValveFlow final : public FlowField {
 public:
     ValveFlow(ValveGeometry valve, double bore_speed) : valve_(valve), speed_(bore_speed) {}
-    Vec3 velocity(const Vec3& x, double time) const override;
+    Vec3 velocity(const Vec3& x, double) const override { return unscaled(x) * scale(); }
+    Vec3 unscaled(const Vec3& x) const;  // the profile at scale 1
     std::string name() const override { return "valve"; }
 
     // Volumetric flow rate at scale 1 (the same through every section), m^3/s.

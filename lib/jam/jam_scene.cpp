@@ -104,7 +104,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     SceneNode fluid = root.object("fluid");
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-    fluid.choice("flow", {"prescribed"}, "prescribed");
+    out.flow.pressure_limited = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
+    out.flow.supply_pressure = fluid.quantity("supply_pressure", units::pressure, 105e3, Bounds::positive());
     fluid.finish();
 
     // Field: uniform across the valve (y) or a map from `mrjam magnetics`.

@@ -24,10 +24,18 @@ struct JamProtocol {
     long observe_every = 50;        // steps between flux observations
 };
 
+// The carrier flow: the source's prescribed profile, or the same profile limited by the supply
+// pressure (the flow slows until the drag on the grains equals the pressure on the section).
+struct JamFlow {
+    bool pressure_limited = false;
+    double supply_pressure = 105e3;  // Pa
+};
+
 struct JamScene {
     nlohmann::json engine_scene;    // for build_scene()
     nlohmann::json resolved;        // the jam scene with defaults, for the report
     JamProtocol protocol;
+    JamFlow flow;
     ValveGeometry valve;
     double slab_half_thickness = 0; // 0: the full bore
     double largest_diameter = 0;

@@ -1,0 +1,160 @@
+// `mrjam design DESIGN.json --report R.json`: the whole chain for a valve designer. For each
+// constriction: solve the EPM's field (magnetics/), write its field map, run the jam predictor
+// in that field, estimate the open valve's flow rate at the supply pressure; then name the
+// widest constriction that still jams reliably.
+#include <filesystem>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "jam/jam_run.hpp"
+#include "jam/open_flow.hpp"
+#include "magnetic/external_field.hpp"
+#include "magnetics/getdp_problem.hpp"
+#include "magnetics/magnetics_scene.hpp"
+#include "run/runner.hpp"
+#include "scene/scene_node.hpp"
+#include "scene/units.hpp"
+
+namespace mrjam::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+struct DesignArgs {
+    std::string scene;
+    std::string report = "design_report.json";
+    std::string fidelity = "quick";
+    int threads = 1;
+    bool quiet = false;
+};
+
+std::vector<std::pair<std::string, double>> read_constrictions(const json& list) {
+    std::vector<std::pair<std::string, double>> out;
+    if (!list.is_array() || list.empty())
+        throw SceneError("/constrictions", "give a non-empty list of presets (\"20x\") or diameters (\"1.2 mm\")");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string path = "/constrictions/" + std::to_string(i);
+        if (!list[i].is_string()) throw SceneError(path, "a preset name or a diameter with units");
+        const std::string text = list[i].get<std::string>();
+        double d = constriction_preset(text);
+        if (d == 0) {
+            try {
+                d = units::parse_as(text, units::length);
+            } catch (const std::exception& e) {
+                throw SceneError(path, e.what());
+            }
+        }
+        out.push_back({text, d});
+    }
+    return out;
+}
+}  // namespace
+
+void add_design_command(CLI::App& app, int& exit_status) {
+    auto args = std::make_shared<DesignArgs>();
+    CLI::App* cmd = app.add_subcommand("design", "Magnetics -> field map -> jam predictor, for a list of constrictions");
+    cmd->add_option("scene", args->scene, "Design JSON (see docs/jam.md)")->required();
+    cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
+    cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
+        ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
+    cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
+    cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
+    cmd->callback([args, &exit_status] {
+        const json design = read_json_file(args->scene);
+        if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
+        for (const auto& [key, value] : design.items())
+            if (key != "description" && key != "magnetics" && key != "jam" && key != "constrictions" &&
+                key != "required_jam_probability" && key != "seeds" && key != "output_directory")
+                throw SceneError("/" + key, "unknown key (expected description, magnetics, jam, constrictions, "
+                                            "required_jam_probability, seeds, output_directory)");
+        const auto constrictions = read_constrictions(design.value("constrictions", json::array({"20x", "30x", "40x"})));
+        const double required = design.value("required_jam_probability", 1.0);
+        if (!(required > 0 && required <= 1)) throw SceneError("/required_jam_probability", "must lie in (0, 1]");
+        const int seeds = design.value("seeds", 1);
+        if (seeds < 1) throw SceneError("/seeds", "must be at least 1");
+        const fs::path out_dir = design.value("output_directory", std::string("out/design"));
+        const std::string base = fs::path(args->scene).parent_path().string();
+        const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
+        if (magnetics::find_getdp().empty()) {
+            std::cerr << "error: getdp was not found on PATH; install it with `apt-get install getdp`\n";
+            exit_status = kExitBadInput;
+            return;
+        }
+
+        json rows = json::array();
+        std::string widest;
+        double widest_d = 0;
+        for (const auto& [name, diameter] : constrictions) {
+            const fs::path dir = out_dir / name;
+            fs::create_directories(dir);
+            // 1. The field of this valve.
+            json mscene = design.value("magnetics", json::object());
+            mscene["valve"]["constriction_diameter"] = diameter;
+            mscene["valve"].erase("constriction");
+            mscene["state"] = "on";
+            mscene["output"] = {{"directory", (dir / "magnetics").string()}};
+            auto ms = magnetics::read_magnetics_scene(mscene, magnetics_tier);
+            ms.request.work_dir = dir / "magnetics" / "solver";
+            if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
+            const auto field = magnetics::compute_epm_field(ms.request);
+            fs::remove_all(ms.request.work_dir);
+            const fs::path map = dir / "field.map";
+            FieldMap(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing, field.fluid_map.values)
+                .write(map.string());
+            // 2. The jam predictor in that field, with the same valve.
+            json jscene = design.value("jam", json::object());
+            jscene["valve"] = ms.resolved["valve"];
+            for (const char* k : {"upstream_length", "downstream_length"}) jscene["valve"].erase(k);
+            jscene["field"] = {{"type", "map"}, {"file", fs::absolute(map).string()}};
+            jscene["output"] = {{"directory", (dir / "jam").string()}};
+            const JamScene js = read_jam_scene(jscene, args->fidelity, base);
+            int jams = 0;
+            json runs = json::array();
+            for (int k = 0; k < seeds; ++k) {
+                JamRunOptions options;
+                options.threads = args->threads;
+                options.progress = !args->quiet;
+                if (k == 0) options.picture_path = (dir / "throat.png").string();
+                const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
+                if (o.exit_status != 0) {
+                    exit_status = o.exit_status;
+                    std::cerr << "[design] the jam run for " << name << " stopped; partial results in " << dir << "\n";
+                    return;
+                }
+                jams += o.jammed;
+                runs.push_back({{"outcome", o.report["results"]["outcome"]}, {"time_to_arrest_s", o.report["results"]["time_to_arrest_s"]}});
+            }
+            // 3. The open valve's flow at the supply pressure.
+            const double phi = js.resolved["grains"].value("volume_fraction", 0.345);
+            const double mu = js.resolved["fluid"].value("viscosity", 0.16);
+            const double rho_s = phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
+            ValveGeometry open = js.valve;
+            const OpenFlowEstimate flow = open_flow_estimate(open, mu, phi, rho_s, js.flow.supply_pressure);
+            const double probability = static_cast<double>(jams) / seeds;
+            if (probability >= required && diameter > widest_d) { widest_d = diameter; widest = name; }
+            rows.push_back({{"constriction", name}, {"diameter_m", diameter},
+                            {"mean_B_active_T", field.mean_b_active}, {"jam_probability", probability}, {"runs", runs},
+                            {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
+                            {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
+                            {"field_map", map.string()}});
+        }
+        json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", "complete"},
+                       {"scene_file", args->scene}, {"inputs", design}, {"fidelity", args->fidelity},
+                       {"results", {{"constrictions", rows},
+                                    {"widest_reliable_constriction", widest.empty() ? json(nullptr) : json(widest)},
+                                    {"required_jam_probability", required},
+                                    {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
+                                                        "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}}};
+        write_json_file(args->report, report);
+        if (!args->quiet)
+            std::cerr << "[design] widest constriction that jams reliably: " << (widest.empty() ? "none" : widest)
+                      << "; report " << args->report << "\n";
+        exit_status = 0;
+    });
+}
+
+}  // namespace mrjam::cli
