@@ -95,7 +95,6 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
             exit_status = kExitBadInput;
             return;
         }
-        const fs::path scene_dir = fs::path(args->scene).parent_path();
         fs::path output = scene.output_directory;
         scene.request.work_dir = output / "solver";
         if (!args->quiet)
@@ -147,7 +146,6 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
         if (!args->quiet)
             std::cerr << "[magnetics] mean |B| in the active fluid " << field.mean_b_active * 1e3 << " mT, inactive gap "
                       << field.mean_b_inactive * 1e3 << " mT (" << total << " s); report " << args->report << "\n";
-        (void)scene_dir;
         exit_status = 0;
     });
 }

@@ -125,64 +125,43 @@ std::vector<RegionPieces> add_epm_pieces(const EpmModel& m, int dim) {
     }
     DimTags iron = bracket_pieces(m, dim);
 
-    const double rb = m.valve.bore_radius(), ro = 0.5 * m.valve.outer_diameter();
+    const ValveGeometry& v = m.valve;
+    const double rb = v.bore_radius(), ro = 0.5 * v.outer_diameter();
     const double x_inactive = m.magnet_front_x();
+    // A rectangle of the x-y section, extruded over the bracket width in 3D.
+    auto section_box = [&](double x, double y, double dx, double dy) {
+        return dim == 3 ? std::pair{3, occ::addBox(x, y, -0.5 * w, dx, dy, w)}
+                        : std::pair{2, occ::addRectangle(x, y, 0.0, dx, dy)};
+    };
+    auto joined = [](DimTags a, const DimTags& b) { a.insert(a.end(), b.begin(), b.end()); return a; };
+    // 3D: the passage with its constriction; 2D: the bore disc of the section through the throat.
+    const DimTags fluid{dim == 3 ? std::pair{3, fluid_solid(v)} : std::pair{2, occ::addDisk(0, 0, 0, rb, rb)}};
+    DimTags inserts;
+    if (m.bracket.variant == BracketVariant::insert) {
+        // Iron blocks through the valve wall, from the brackets' inner faces down to the fluid.
+        const double iw = m.bracket.insert_width;
+        inserts = cut({section_box(-0.5 * iw, 0.0, iw, g), section_box(-0.5 * iw, -g, iw, g)}, fluid, false);
+    }
     // The valve body (non-magnetic plastic) is its own region so the field map can be sampled
     // over the bore's bounding box from the elements of fluid and body alone.
+    const DimTags body_outline{dim == 3 ? std::pair{3, occ::addCylinder(0, 0, -v.upstream_length, 0, 0,
+                                                                        v.upstream_length + v.downstream_length, ro)}
+                                        : std::pair{2, occ::addDisk(0, 0, 0, ro, ro)}};
+    // The inactive air: between the brackets, from the magnets' face to the tube axis plane,
+    // outside the valve body and the inserts.
+    const DimTags inactive = cut({section_box(x_inactive, -g, -x_inactive, 2 * g)}, joined(body_outline, inserts), false);
+    const DimTags body = cut(body_outline, joined(fluid, inserts), false);
+    regions.push_back({region::iron, joined(iron, inserts)});
     if (dim == 3) {
-        const ValveGeometry& v = m.valve;
-        const DimTags fluid{{3, fluid_solid(v)}};
+        // The active fluid lies between the brackets (|z| <= width / 2); the rest is passive.
         const DimTags slab{{3, occ::addBox(-ro - 1e-3, -ro - 1e-3, -0.5 * w, 2 * ro + 2e-3, 2 * ro + 2e-3, w)}};
-        const DimTags active = intersect(fluid, slab);
-        DimTags inserts;
-        if (m.bracket.variant == BracketVariant::insert) {
-            // Iron blocks through the valve wall, from the brackets' inner faces down to the fluid.
-            const double iw = m.bracket.insert_width;
-            DimTags blocks{{3, occ::addBox(-0.5 * iw, 0.0, -0.5 * w, iw, g, w)},
-                           {3, occ::addBox(-0.5 * iw, -g, -0.5 * w, iw, g, w)}};
-            inserts = cut(blocks, fluid, false);
-        }
-        const double body_length = v.upstream_length + v.downstream_length;
-        const DimTags body_outline{{3, occ::addCylinder(0, 0, -v.upstream_length, 0, 0, body_length, ro)}};
-        // The inactive air: between the brackets, from the magnets' face to the tube axis plane,
-        // outside the valve body and the inserts.
-        DimTags box{{3, occ::addBox(x_inactive, -g, -0.5 * w, -x_inactive, 2 * g, w)}};
-        DimTags tools = body_outline;
-        tools.insert(tools.end(), inserts.begin(), inserts.end());
-        const DimTags inactive = cut(box, tools, false);
-        tools = fluid;
-        tools.insert(tools.end(), inserts.begin(), inserts.end());
-        const DimTags body = cut(body_outline, tools, false);
-        const DimTags passive = cut(fluid, slab, true);
-        iron.insert(iron.end(), inserts.begin(), inserts.end());
-        regions.push_back({region::iron, iron});
-        regions.push_back({region::fluid_active, active});
-        regions.push_back({region::fluid_passive, passive});
-        regions.push_back({region::inactive_air, inactive});
-        regions.push_back({region::valve_body, body});
+        regions.push_back({region::fluid_active, intersect(fluid, slab)});
+        regions.push_back({region::fluid_passive, cut(fluid, slab, true)});
     } else {
-        const DimTags fluid{{2, occ::addDisk(0, 0, 0, rb, rb)}};
-        DimTags inserts;
-        if (m.bracket.variant == BracketVariant::insert) {
-            const double iw = m.bracket.insert_width;
-            DimTags blocks{{2, occ::addRectangle(-0.5 * iw, 0.0, 0.0, iw, g)},
-                           {2, occ::addRectangle(-0.5 * iw, -g, 0.0, iw, g)}};
-            inserts = cut(blocks, fluid, false);
-        }
-        const DimTags body_outline{{2, occ::addDisk(0, 0, 0, ro, ro)}};
-        DimTags box{{2, occ::addRectangle(x_inactive, -g, 0.0, -x_inactive, 2 * g)}};
-        DimTags tools = body_outline;
-        tools.insert(tools.end(), inserts.begin(), inserts.end());
-        const DimTags inactive = cut(box, tools, false);
-        tools = fluid;
-        tools.insert(tools.end(), inserts.begin(), inserts.end());
-        const DimTags body = cut(body_outline, tools, false);
-        iron.insert(iron.end(), inserts.begin(), inserts.end());
-        regions.push_back({region::iron, iron});
         regions.push_back({region::fluid_active, fluid});
-        regions.push_back({region::inactive_air, inactive});
-        regions.push_back({region::valve_body, body});
     }
+    regions.push_back({region::inactive_air, inactive});
+    regions.push_back({region::valve_body, body});
     return regions;
 }
 

@@ -109,12 +109,11 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
         mg.length = magnets->quantity("length", L, mg.length, Bounds::any());
         mg.spacing = magnets->quantity("spacing", L, mg.spacing, Bounds::any());
         if (auto n = magnets->optional_object("ndfeb")) read_magnet(*n, mg.ndfeb);
-        if (out.state == "partial" && !(magnets->has("alnico") && scene["magnets"]["alnico"].contains("remanence")))
-            mg.alnico.remanence = 1.25;  // the source's partial switch
+        // Partial switching defaults the alnico to the source's 1.25 T (with_default_blocks
+        // guarantees the block exists, so only the key's presence matters).
+        if (out.state == "partial" && !scene["magnets"]["alnico"].contains("remanence")) mg.alnico.remanence = 1.25;
         if (auto a = magnets->optional_object("alnico")) read_magnet(*a, mg.alnico);
         magnets->finish();
-    } else if (out.state == "partial") {
-        m.magnets.alnico.remanence = 1.25;
     }
     m.magnets.alnico_polarity = out.state == "on" ? 1.0 : -1.0;
     if (out.state == "partial" && m.magnets.alnico.remanence >= m.magnets.ndfeb.remanence)
