@@ -6,6 +6,8 @@ namespace mrjam::cli {
 
 void add_run_command(CLI::App& app, int& exit_status);
 void add_bench_command(CLI::App& app, int& exit_status);
+// `shear`: the shear-cell calibration mode (apps/command_shear.cpp, lib/shear/).
+void add_shear_command(CLI::App& app, int& exit_status);
 // `bench magnetic` and `bench magnetic-accuracy` (apps/bench_magnetic.cpp), registered under `bench`.
 void add_magnetic_bench_commands(CLI::App& bench, int& exit_status);
 
