@@ -94,8 +94,8 @@ void add_shear_command(CLI::App& app, int& exit_status) {
             report["data_file"] = args->calibrate;
             report["inputs"] = spec.resolved;
             report["fidelity"] = describe(shear_tier(spec.tier));
+            report["plots"] = {{"calibration", write_calibration_plot(args->report, report, data)}};
             write_json_file(args->report, report);
-            write_calibration_plot(args->report, report, data);
             std::cerr << "[shear] calibration " << report["status"].get<std::string>() << "; report written to " << args->report << "\n";
             exit_status = report.value("exit_status", 0);
             return;

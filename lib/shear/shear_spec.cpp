@@ -173,6 +173,9 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         else m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
         for (const char* k : {"iterations", "tolerance", "max_iterations"})
             if (m.has(k)) s.magnetic[k] = m.raw(k);
+        // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
+        // "none": the linear law of eq. 2.4 without a cap, the source's chapter-2 model.
+        s.saturation = m.choice("saturation", {"material", "none"}, "material");
         m.finish();
     }
     {
@@ -302,6 +305,8 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
         {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
                     {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
     scene["run"]["steps"] = 0;
+    // Without saturation the cap is put out of reach: M_s V would exceed any induced moment.
+    if (s.saturation == "none") scene["materials"][0]["saturation_magnetisation"] = 1e300;
     if (flux_density > 0) {
         nlohmann::json mag = s.magnetic;
         const Vec3 b = s.field_direction * flux_density;

@@ -29,6 +29,7 @@ struct ShearSpec {
     double flux_density = 0;      // T
     Vec3 field_direction{0, 0, 1};
     nlohmann::json magnetic;      // engine "magnetic" block without the field
+    std::string saturation = "material";  // or "none" (linear induced moments, as the source)
     double stiffness_scale = 1, density_scale = 1;
     nlohmann::json run;           // engine "run" block (timestep settings)
 

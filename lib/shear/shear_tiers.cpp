@@ -11,8 +11,8 @@ namespace {
 const std::vector<ShearTier>& tiers() {
     static const std::vector<ShearTier> all = {
         // name      cell     E x   rho x  strain1 strain/rate  mag      safety  magnetise max
-        {"quick", 90e-6, 1.0, 1.0, 0.3, 0.1, 8e-6, 0.1, 40e-6},
-        {"standard", 100e-6, 1.0, 1.0, 0.5, 0.1, 8e-6, 0.1, 60e-6},
+        {"quick", 90e-6, 1.0, 1.0, 0.3, 0.05, 8e-6, 0.1, 40e-6},
+        {"standard", 100e-6, 1.0, 1.0, 0.6, 0.1, 8e-6, 0.1, 60e-6},
         {"paper", 125e-6, 1.0, 1.0, 0.9, 0.1, 8e-6, 0.1, 60e-6},
     };
     return all;
