@@ -189,6 +189,9 @@ private:
             const long chunk = std::min(count, 200L);
             advance_steps(s, chunk);
             count -= chunk;
+            // The largest overlap seen (sampled at chunk ends): the report shows how far the soft
+            // contacts were pushed.
+            max_overlap_ = std::max(max_overlap_, s.contact_stats.max_overlap_ratio);
             if (interrupt_requested()) return false;
             if (seconds_since(last_checkpoint_) > spec_.checkpoint_every_seconds) write_checkpoint_now();
             if (options_.progress && seconds_since(last_progress_) > spec_.progress_interval) {
@@ -211,6 +214,7 @@ private:
         const long max_steps = static_cast<long>(std::ceil(spec_.magnetise_max / s.dt));
         const long min_steps = static_cast<long>(std::ceil(spec_.magnetise_min / s.dt));
         nlohmann::json& log = cur["magnetise_log"];
+        max_overlap_ = 0;
         long done = cur["magnetise_steps"].get<long>();
         bool settled = false;
         while (done < max_steps) {
@@ -244,7 +248,7 @@ private:
             }
         }
         const ChainState cs = chain_state(s, spec_.field_direction);
-        cur["magnetisation"] = {{"settled", settled}, {"duration_s", done * s.dt}, {"steps", done},
+        cur["magnetisation"] = {{"settled", settled}, {"max_overlap_ratio_seen", max_overlap_}, {"duration_s", done * s.dt}, {"steps", done},
                                 {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos_to_field", cs.mean_abs_cos},
                                 {"criterion", "contacts per grain and mean |cos| of contact normals to the field each vary by less than " +
                                                   std::to_string(spec_.magnetise_tolerance) + " of their mean over the last " +
@@ -294,6 +298,7 @@ private:
         long i = cur["step_in_rate"].get<long>();
         if (i == 0) cur["samples"] = {{"upper", nlohmann::json::array()}, {"lower", nlohmann::json::array()}, {"bulk", nlohmann::json::array()}};
         const auto t_rate = Clock::now();
+        max_overlap_ = 0;
         while (i < total) {
             const long n = std::min(every - i % every, total - i);
             char what[200];
@@ -324,7 +329,7 @@ private:
                                 {"stress_Pa", up.mean}, {"error_Pa", up.error}, {"blocks", up.blocks}, {"samples_averaged", up.samples},
                                 {"lower_raft_stress_Pa", lo.mean}, {"lower_raft_error_Pa", lo.error},
                                 {"bulk_stress_Pa", bulk.mean}, {"bulk_error_Pa", bulk.error},
-                                {"series_upper_Pa", cur["samples"]["upper"]},
+                                {"series_upper_Pa", cur["samples"]["upper"]}, {"max_overlap_ratio_seen", max_overlap_},
                                 {"wall_time_s", seconds_since(t_rate)}});
         if (options_.progress)
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (lower raft %.4g, bulk %.4g)\n", options_.label.c_str(),
@@ -352,6 +357,7 @@ private:
     nlohmann::json engine_;
     std::unique_ptr<Scene> scene_;
     bool resumed_ = false;
+    double max_overlap_ = 0;
     Clock::time_point t0_, last_checkpoint_, last_progress_;
 };
 
