@@ -3,6 +3,8 @@
 // without redoing finished rates and ends where an uninterrupted one ends; --calibrate runs.
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include "test_support.hpp"
 
 using namespace mrjam_test;
@@ -79,6 +81,25 @@ TEST_CASE("shear cli: a short study reports the flow curve, the fits, the yield 
         const std::string svg = slurp(rep["plots"][key].get<std::string>());
         CHECK(svg.rfind("<svg", 0) == 0);
     }
+}
+
+TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when asked") {
+    TempDir dir;
+    json scene = small_scene(dir.file("out"));
+    scene["dissipation"] = "contact_damping";
+    const Result r = shear(dir, "damped", scene, "--quiet");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json rep = json::parse(slurp(dir.file("damped_report.json")));
+    CHECK_FALSE(rep["engine_scene"].contains("fluid"));  // no drag against the affine flow
+    // Default coefficient: the Stokes coefficient of the mean grain, 6 pi mu R = 3 pi mu d.
+    CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == doctest::Approx(3 * M_PI * 0.01 * 6.7e-6));
+    CHECK(rep["results"]["flow_curve"].size() == 3);
+    scene.erase("dissipation");
+    scene["contact_damping"] = "1 uN s/m";
+    const Result stray = shear(dir, "stray", scene, "--quiet");
+    CHECK(stray.exit_code == 2);
+    CHECK(stray.err.find("/contact_damping") != std::string::npos);
 }
 
 TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {

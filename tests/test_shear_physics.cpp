@@ -150,3 +150,34 @@ TEST_CASE("shear cell: in steady shear the virial stress matches the raft stress
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("physics") {
+
+TEST_CASE("contact damping: a sliding touching pair loses relative velocity as exp(-2 c t / m), momentum kept") {
+    // Frictionless equal grains touching along z, sliding along x: the only tangential force is
+    // the pair damping f = -c (v_i - v_j), so the relative velocity decays at 2 c / m.
+    const double d = 4e-6, c = 1e-5;
+    json scene = {
+        {"domain", {{"lo", {0, 0, 0}}, {"hi", {kL, kL, kL}}, {"periodic", "xyz"}}},
+        {"materials", {{{"name", "iron"}, {"density", 7800}, {"youngs_modulus", 1e9}, {"friction", 0.0}}}},
+        {"contact", {{"pair_damping", c}}},
+        {"grains", {{{"size", {{"distribution", "single"}, {"diameter", d}}},
+                     {"placement", {{"method", "list"}, {"positions", {{20e-6, 20e-6, 20e-6}, {20e-6, 20e-6, 20e-6 + d * (1 - 1e-5)}}}}}}}},
+        {"run", {{"steps", 0}}}};
+    Scene sc = build_scene(scene, BuildOptions{});
+    choose_timestep(sc);
+    System& s = sc.system;
+    s.particles.velocity[0] = Vec3{0.01, 0, 0};
+    s.particles.velocity[1] = Vec3{-0.01, 0, 0};
+    prepare(s);
+    const double m = s.particles.mass[0];
+    const double t_end = 0.5 * m / c;  // one relaxation time of the relative velocity (rate 2c/m)
+    const long steps = static_cast<long>(std::ceil(t_end / s.dt));
+    advance_steps(s, steps);
+    REQUIRE(s.contact_stats.contacts == 1);  // still touching: the damping acted throughout
+    const double rel = s.particles.velocity[0].x - s.particles.velocity[1].x;
+    CHECK(std::abs(rel) == doctest::Approx(0.02 * std::exp(-2 * c * s.time / m)).epsilon(2e-3));
+    CHECK(std::abs(s.particles.velocity[0].x + s.particles.velocity[1].x) < 1e-15);  // momentum
+}
+
+}  // TEST_SUITE

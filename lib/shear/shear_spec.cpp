@@ -155,6 +155,15 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.viscosity = f.quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
         f.finish();
     }
+    // Dissipation: Stokes drag against the affine (Couette) flow, as the source, or pairwise
+    // damping between touching grains with no background flow. The default damping coefficient
+    // is the Stokes coefficient 6 pi mu R of the number-mean grain, so the two are comparable.
+    s.dissipation = root.choice("dissipation", {"stokes_drag", "contact_damping"}, "stokes_drag");
+    if (s.dissipation == "contact_damping")
+        s.contact_damping = root.quantity("contact_damping", units::damping, 3.0 * M_PI * s.viscosity * sizes.mean_diameter_number(),
+                                          Bounds::positive());
+    else if (root.has("contact_damping"))
+        root.fail("contact_damping", "is used only with \"dissipation\": \"contact_damping\"");
     {
         SceneNode f = root.object("field");
         s.flux_density = f.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
@@ -200,6 +209,11 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.magnetise_window = static_cast<int>(m.integer("window", 5, 2, 1000));
         s.magnetise_tolerance = m.number("tolerance", 0.02, Bounds::open(0.0, 1.0));
         s.magnetise_min = m.quantity("min_duration", units::time, 10e-6, Bounds::non_negative());
+        // A field switched on at once pulls small grains onto large ones at tens of m/s (Stokes
+        // drag is the only brake), overlapping them by 40% of their radius with the source's soft
+        // modulus. Raising it over a few microseconds, as any real magnet does over far longer,
+        // lets the first chains form gently; the settled structure is what is sheared.
+        s.field_ramp = m.quantity("field_ramp", units::time, 5e-6, Bounds::non_negative());
         s.magnetise_max = m.quantity("max_duration", units::time, tier.magnetise_max, Bounds::positive());
         if (s.magnetise_max < s.magnetise_min) m.fail("max_duration", "must not be shorter than min_duration");
         m.finish();
@@ -308,12 +322,16 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
         {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
                     {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
     scene["run"]["steps"] = 0;
+    if (s.dissipation == "contact_damping") {
+        scene.erase("fluid");
+        scene["contact"]["pair_damping"] = s.contact_damping;
+    }
     // Without saturation the cap is put out of reach: M_s V would exceed any induced moment.
     if (s.saturation == "none") scene["materials"][0]["saturation_magnetisation"] = 1e300;
     if (flux_density > 0) {
         nlohmann::json mag = s.magnetic;
         const Vec3 b = s.field_direction * flux_density;
-        mag["field"] = {{"type", "uniform"}, {"flux_density", {b.x, b.y, b.z}}};
+        mag["field"] = {{"type", "uniform"}, {"flux_density", {b.x, b.y, b.z}}, {"ramp", s.field_ramp}};
         scene["magnetic"] = mag;
     }
     return scene;

@@ -26,6 +26,8 @@ struct ShearSpec {
     nlohmann::json material;      // engine material, scaled
     std::string rolling = "epsd", cohesion = "sjkr";
     double viscosity = 0;
+    std::string dissipation = "stokes_drag";  // or "contact_damping"
+    double contact_damping = 0;               // N s/m, for contact_damping
     double flux_density = 0;      // T
     Vec3 field_direction{0, 0, 1};
     nlohmann::json magnetic;      // engine "magnetic" block without the field
@@ -38,6 +40,7 @@ struct ShearSpec {
     int magnetise_window = 5;          // checks in the window
     double magnetise_tolerance = 0.02; // max relative spread over the window
     double magnetise_min = 0, magnetise_max = 0;  // s
+    double field_ramp = 0;             // s, linear rise of the field from zero at the start
 
     std::vector<double> rates;         // 1/s, decreasing
     std::vector<double> wall_speeds;   // m/s, each raft moves at +-v

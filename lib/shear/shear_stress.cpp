@@ -42,6 +42,7 @@ double contact_moment(const System& s) {
             ContactOutput out;
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
             sum += d.z * out.force_on_i.x;
+            if (s.physics.pair_damping > 0) sum += d.z * (-s.physics.pair_damping * (p.velocity[i].x - p.velocity[j].x));
         }
     }
     return sum;
