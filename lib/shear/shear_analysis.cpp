@@ -46,7 +46,7 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
     if (!spec.sweep_fields.empty()) {
         nlohmann::json sweep = nlohmann::json::array();
         for (std::size_t c = 1; c < cells.size(); ++c) {
-            const auto& q = cells[c]["rates"][0];
+            const auto& q = cells[c]["rates"].back();  // the first, if two, is the pre-shear
             sweep.push_back({{"flux_density_T", cells[c]["flux_density_T"]}, {"rate_1_s", q["rate_1_s"]},
                              {"stress_Pa", q["stress_Pa"]}, {"error_Pa", q["error_Pa"]}, {"strain", q["strain"]}});
         }

@@ -44,13 +44,21 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
     }
     cells.push_back(main);
     for (double b : spec.sweep_fields) {
+        // As the source's field runs: shear first at the ladder's top rate (strain_first) to build
+        // the sheared structure, then measure at the sweep rate; the stress of a cell sheared from
+        // rest is still rising (at 600 mT and 100 1/s, half the pre-sheared value after a strain of 0.05).
         CellPlan c;
         c.name = "field_sweep";
         c.flux_density = b;
-        c.rates = {spec.sweep_rate};
-        c.wall_speeds = {0.5 * spec.sweep_rate * spec.gap()};
-        c.strains = {spec.sweep_strain};
-        c.steps = {0};
+        if (spec.rates.front() > spec.sweep_rate) {
+            c.rates.push_back(spec.rates.front());
+            c.strains.push_back(spec.steps_first > 0 ? 0.0 : spec.strain_first);
+            c.steps.push_back(spec.steps_first > 0 ? spec.steps_first : 0);
+        }
+        c.rates.push_back(spec.sweep_rate);
+        c.strains.push_back(spec.sweep_strain);
+        c.steps.push_back(0);
+        for (double g : c.rates) c.wall_speeds.push_back(0.5 * g * spec.gap());
         cells.push_back(c);
     }
     return cells;

@@ -273,7 +273,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.sweep_fields = sw->quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
         if (s.sweep_fields.empty()) sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
         s.sweep_rate = sw->quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
-        s.sweep_strain = sw->number("strain", s.strain_first > 0 ? s.strain_first : 0.1, Bounds::positive());
+        s.sweep_strain = sw->number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
         sw->finish();
     }
     if (auto ex = root.optional_object("experiment")) {
