@@ -209,6 +209,11 @@ ModelFit fit_herschel_bulkley(const std::vector<FlowPoint>& curve) {
         f.note = "flow index poorly determined (singular linearisation)";
     }
     f.rms_residual = rms_of(pts, f);
+    // A flat or non-monotonic curve leaves n undetermined: the search then stops at a bound and
+    // tau_y trades off against K without meaning.
+    if (n < n_lo + 1e-3 || n > n_hi - 1e-3)
+        f.note = "flow index at the search bound (" + std::to_string(n_lo) + " to " + std::to_string(n_hi) +
+                 "): the curve does not determine it, so this yield stress is not meaningful";
     return f;
 }
 

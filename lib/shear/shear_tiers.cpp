@@ -5,9 +5,12 @@
 namespace mrjam {
 namespace {
 
-// Measured in docs/shear.md ("Fidelity tiers"). The source used a 250 um cell (12,000 grains),
-// E = 1 GPa, dt = 2e-10 s and strains of 0.9 then 0.1 per rate on 18 cores; on two cores the
-// tiers shrink the cell and scale stiffness and density, whose effect the table measures.
+// Measured in docs/shear.md ("Measured: fidelity tiers"). The source used a 250 um cell (12,000
+// grains), E = 1 GPa, dt = 2e-10 s and strains of 0.9 then 0.1 per rate on 18 cores. Here the
+// automatic step is 1.29 ns, so no stiffness or density scaling is needed: the tiers shrink the
+// cell and the strains. Bundled example, one core: quick 47.7 and 49.3 kPa (seeds 1, 2; 105-110 s),
+// standard 42.4 and 55.3 kPa (280-295 s), paper 61.7 kPa (660 s); experiment 44.9 kPa. Seed
+// scatter (13 kPa between the two standard seeds) dominates the differences between tiers.
 const std::vector<ShearTier>& tiers() {
     static const std::vector<ShearTier> all = {
         // name      cell     E x   rho x  strain1 strain/rate  mag      safety  magnetise max
