@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     int exit_status = 0;
     mrjam::cli::add_run_command(app, exit_status);
+    mrjam::cli::add_shear_command(app, exit_status);
     mrjam::cli::add_bench_command(app, exit_status);
     mrjam::cli::add_magnetics_command(app, exit_status);
     mrjam::cli::add_jam_command(app, exit_status);

@@ -170,6 +170,26 @@ void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
     }
 }
 
+// f_i = -c (v_i - v_j) on touching grain pairs (the list's touching flags were just set by the
+// contact pass). Serial: it is off by default and, when on, cheap next to the contact law.
+void pair_damping_forces(System& s) {
+    Particles& p = s.particles;
+    const NeighborList& list = s.contacts;
+    const double c = s.physics.pair_damping;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            if (!list.touching[k]) continue;
+            const std::uint32_t j = list.partners[k];
+            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
+            const Vec3 f = (p.velocity[i] - p.velocity[j]) * (-c);
+            p.force[i] += f;
+            p.force[j] -= f;
+            if (p.raft[i] >= 0) s.rafts[p.raft[i]].force += f;
+            if (p.raft[j] >= 0) s.rafts[p.raft[j]].force -= f;
+        }
+    }
+}
+
 template <RollingModel Rolling, CohesionModel Cohesion>
 void compute_all(System& s, bool zero_first) {
     Particles& p = s.particles;
@@ -230,6 +250,7 @@ void compute_all(System& s, bool zero_first) {
         s.rafts[r].force = Vec3{};
         for (int tid = 0; tid < nthreads; ++tid) s.rafts[r].force += b.raft_force[tid][r];
     }
+    if (s.physics.pair_damping > 0) pair_damping_forces(s);
 }
 
 template <RollingModel Rolling>

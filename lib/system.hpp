@@ -21,6 +21,10 @@ struct PhysicsSettings {
     RollingModel rolling = RollingModel::none;
     CohesionModel cohesion = CohesionModel::none;
     bool drag = false;
+    // Pairwise contact damping f_i = -c (v_i - v_j) between touching grains (N s/m; 0: off): a
+    // dissipation that, unlike drag against a background flow, does not impose the affine
+    // velocity profile (Lees-Edwards-free DEM rheology uses it; the shear mode offers it).
+    double pair_damping = 0;
     double viscosity = 0;      // Pa s
     double fluid_density = 0;  // kg/m3, for buoyancy under gravity
     bool gravity = false;

@@ -68,6 +68,8 @@ void read_contact(SceneNode node, PhysicsSettings& ph) {
     ph.rolling = rolling == "epsd" ? RollingModel::epsd : rolling == "sds" ? RollingModel::sds : RollingModel::none;
     const std::string cohesion = node.choice("cohesion", {"none", "sjkr", "dmt"}, "none");
     ph.cohesion = cohesion == "sjkr" ? CohesionModel::sjkr : cohesion == "dmt" ? CohesionModel::dmt : CohesionModel::none;
+    ph.pair_damping = node.quantity("pair_damping", units::damping, 0.0, Bounds::non_negative());
+    if (ph.pair_damping > 0 && !ph.contact) node.fail("pair_damping", "acts between touching grains: it needs the hertz_mindlin contact model");
     node.finish();
 }
 

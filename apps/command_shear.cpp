@@ -1,0 +1,120 @@
+// `mrjam shear SCENE.json --report R.json`: the shear-cell calibration mode (docs/shear.md).
+// Runs the study (lib/shear), writes the report and the flow-curve plot next to it, and with
+// --calibrate fits named model parameters to measured flow-curve points.
+#include <filesystem>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "run/runner.hpp"
+#include "scene/scene_node.hpp"
+#include "shear/calibration.hpp"
+#include "shear/shear_cell.hpp"
+#include "shear/shear_plots.hpp"
+#include "shear/shear_spec.hpp"
+
+namespace mrjam::cli {
+
+namespace {
+struct ShearArgs {
+    std::string scene;
+    std::string report = "shear_report.json";
+    std::string resume;
+    std::string calibrate;
+    std::vector<std::string> parameters;
+    int max_runs = 8;
+    int threads = 1;
+    bool quiet = false;
+    std::string fidelity = "standard";
+};
+
+nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const std::string& scene_file, int threads) {
+    nlohmann::json report;
+    report["mrjam_version"] = MRJAM_VERSION;
+    report["mode"] = "shear";
+    report["scene_file"] = scene_file;
+    report["seed"] = spec.seed;
+    report["threads"] = threads;
+    report["inputs"] = spec.resolved;
+    nlohmann::json fid = describe(shear_tier(spec.tier));
+    fid["engine"] = out.engine.value("fidelity", nlohmann::json());
+    fid["stiffness_scale_used"] = spec.stiffness_scale;
+    fid["density_scale_used"] = spec.density_scale;
+    report["fidelity"] = fid;
+    report["timestep"] = out.engine.value("timestep", nlohmann::json());
+    report["engine_scene"] = out.engine.value("inputs", nlohmann::json());
+    report["status"] = out.status;
+    report["partial"] = out.status != "complete";
+    if (!out.error.empty()) report["error"] = out.error;
+    if (!out.checkpoint.empty()) {
+        report["checkpoint"] = out.checkpoint;
+        report["resume_with"] = "mrjam shear --resume " + out.checkpoint + " --report REPORT.json";
+    }
+    report["results"] = out.results;
+    report["wall_time_s"] = out.wall_time;
+    return report;
+}
+}  // namespace
+
+void add_shear_command(CLI::App& app, int& exit_status) {
+    auto args = std::make_shared<ShearArgs>();
+    CLI::App* cmd = app.add_subcommand("shear", "Shear-cell calibration: flow curve, yield stress fits, field sweep, parameter fitting");
+    cmd->add_option("scene", args->scene, "Shear scene JSON file (see docs/shear.md)");
+    cmd->add_option("--report", args->report, "Where to write the JSON report (the plot goes next to it)")->capture_default_str();
+    cmd->add_option("--resume", args->resume, "Continue a study from its checkpoint (finished rates are not redone)");
+    cmd->add_option("--calibrate", args->calibrate, "Measured flow curve (JSON or CSV of shear rate in 1/s, stress in Pa) to fit parameters to");
+    cmd->add_option("--parameter", args->parameters,
+                    "With --calibrate: NAME=MIN:MAX, one or two of rolling_friction, friction, cohesion_energy_density, field_scale, "
+                    "or a JSON pointer into the shear scene such as /material/restitution");
+    cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")->check(CLI::Range(2, 200))->capture_default_str();
+    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
+    cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
+    cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+        ->check(CLI::IsMember({"quick", "standard", "paper"}))->capture_default_str();
+    cmd->callback([args, &exit_status] {
+        if (args->scene.empty() == args->resume.empty())
+            throw CLI::ValidationError("shear", "give a SCENE file, or --resume CHECKPOINT (not both)");
+        if (!args->calibrate.empty() && !args->resume.empty())
+            throw CLI::ValidationError("shear", "--calibrate starts fresh studies; it cannot be combined with --resume");
+        ShearOptions options;
+        options.threads = args->threads;
+        options.progress = !args->quiet;
+        ShearSpec spec;
+        if (!args->calibrate.empty()) {
+            spec = read_shear_spec(read_json_file(args->scene), args->fidelity);
+            const CalibrationData data = read_calibration_data(args->calibrate);
+            const auto params = parse_calibration_parameters(args->parameters, spec);
+            const nlohmann::json result = calibrate(spec, data, params, args->max_runs, options);
+            nlohmann::json report = result;
+            report["mrjam_version"] = MRJAM_VERSION;
+            report["mode"] = "shear-calibrate";
+            report["scene_file"] = args->scene;
+            report["data_file"] = args->calibrate;
+            report["inputs"] = spec.resolved;
+            report["fidelity"] = describe(shear_tier(spec.tier));
+            report["plots"] = {{"calibration", write_calibration_plot(args->report, report, data)}};
+            write_json_file(args->report, report);
+            std::cerr << "[shear] calibration " << report["status"].get<std::string>() << "; report written to " << args->report << "\n";
+            exit_status = report.value("exit_status", 0);
+            return;
+        }
+        ShearOutcome out;
+        if (!args->resume.empty()) {
+            out = resume_shear_study(args->resume, options, spec);
+        } else {
+            spec = read_shear_spec(read_json_file(args->scene), args->fidelity);
+            out = run_shear_study(spec, options);
+        }
+        nlohmann::json report = report_of(spec, out, args->resume.empty() ? args->scene : args->resume, args->threads);
+        const auto plots = write_shear_plots(args->report, report);
+        report["plots"] = plots;
+        write_json_file(args->report, report);
+        if (out.exit_status == 3) std::cerr << "error: " << out.error << "\n";
+        std::cerr << "[shear] " << out.status << "; report written to " << args->report << "\n";
+        exit_status = out.exit_status;
+    });
+}
+
+}  // namespace mrjam::cli

@@ -1,0 +1,247 @@
+#include "shear/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene/scene_node.hpp"
+#include "shear/shear_analysis.hpp"
+
+namespace mrjam {
+namespace {
+
+FlowPoint point_of(const nlohmann::json& e, const std::string& where) {
+    FlowPoint p{0, 0, 0};
+    if (e.is_array() && (e.size() == 2 || e.size() == 3) && e[0].is_number() && e[1].is_number()) {
+        p = {e[0].get<double>(), e[1].get<double>(), e.size() == 3 && e[2].is_number() ? e[2].get<double>() : 0.0};
+    } else if (e.is_object() && e.contains("rate") && e.contains("stress")) {
+        p = {e["rate"].get<double>(), e["stress"].get<double>(), e.value("error", 0.0)};
+    } else {
+        throw SceneError("--calibrate", where + ": expected [shear rate in 1/s, stress in Pa] or {\"rate\", \"stress\"}");
+    }
+    return p;
+}
+
+void check(const CalibrationData& d, const std::string& path) {
+    if (d.points.size() < 2) throw SceneError("--calibrate", path + ": needs at least two (shear rate, stress) points");
+    for (const auto& p : d.points)
+        if (!(p.rate > 0) || !std::isfinite(p.stress) || p.error < 0)
+            throw SceneError("--calibrate", path + ": every shear rate must be positive and every stress finite");
+}
+
+double wrap_residual(const std::vector<FlowPoint>& sim, const CalibrationData& data) {
+    // RMS of the relative misfit at the measured rates (the ladder is the data's rates).
+    double s = 0;
+    std::size_t n = 0;
+    for (const auto& d : data.points)
+        for (const auto& q : sim)
+            if (std::abs(q.rate - d.rate) <= 1e-9 * d.rate) {
+                const double r = (q.stress - d.stress) / std::max(std::abs(d.stress), 1e-12);
+                s += r * r;
+                ++n;
+            }
+    return n == data.points.size() ? std::sqrt(s / n) : 1e300;
+}
+
+}  // namespace
+
+CalibrationData read_calibration_data(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw SceneError("--calibrate", "cannot read " + path);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    const std::string text = buf.str();
+    CalibrationData d;
+    const auto first = text.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
+        nlohmann::json j;
+        try {
+            j = nlohmann::json::parse(text);
+        } catch (const nlohmann::json::parse_error& e) {
+            throw SceneError("--calibrate", path + ": " + e.what());
+        }
+        const nlohmann::json* list = &j;
+        if (j.is_object()) {
+            if (j.contains("points")) list = &j["points"];
+            else if (j.contains("flow_curve")) list = &j["flow_curve"];
+            else throw SceneError("--calibrate", path + ": expected a list of points, or an object with \"points\"");
+        }
+        if (!list->is_array()) throw SceneError("--calibrate", path + ": the points must be a list");
+        for (std::size_t k = 0; k < list->size(); ++k) d.points.push_back(point_of((*list)[k], path + " entry " + std::to_string(k)));
+    } else {
+        std::istringstream lines(text);
+        std::string line;
+        int number = 0;
+        while (std::getline(lines, line)) {
+            ++number;
+            std::replace(line.begin(), line.end(), ',', ' ');
+            std::replace(line.begin(), line.end(), ';', ' ');
+            const auto s = line.find_first_not_of(" \t\r");
+            if (s == std::string::npos || line[s] == '#') continue;
+            std::istringstream fields(line);
+            double a, b, c = 0;
+            if (!(fields >> a >> b)) {
+                if (d.points.empty()) continue;  // a header line
+                throw SceneError("--calibrate", path + " line " + std::to_string(number) + ": expected shear rate and stress");
+            }
+            if (!(fields >> c)) c = 0;
+            d.points.push_back({a, b, c});
+        }
+    }
+    check(d, path);
+    std::sort(d.points.begin(), d.points.end(), [](const FlowPoint& x, const FlowPoint& y) { return x.rate > y.rate; });
+    return d;
+}
+
+std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items, const ShearSpec& spec) {
+    if (items.empty() || items.size() > 2)
+        throw SceneError("--parameter", "give one or two parameters to fit, as NAME=MIN:MAX (e.g. rolling_friction=0.02:0.4)");
+    std::vector<CalibrationParameter> out;
+    for (const auto& item : items) {
+        const auto eq = item.find('='), colon = item.find(':', eq == std::string::npos ? 0 : eq);
+        if (eq == std::string::npos || colon == std::string::npos)
+            throw SceneError("--parameter", "'" + item + "': expected NAME=MIN:MAX");
+        CalibrationParameter p;
+        p.name = item.substr(0, eq);
+        try {
+            p.lo = std::stod(item.substr(eq + 1, colon - eq - 1));
+            p.hi = std::stod(item.substr(colon + 1));
+        } catch (const std::exception&) {
+            throw SceneError("--parameter", "'" + item + "': MIN and MAX must be numbers (SI units)");
+        }
+        if (!(p.hi > p.lo)) throw SceneError("--parameter", "'" + item + "': MAX must exceed MIN");
+        const std::vector<std::string> material = {"rolling_friction", "friction", "rolling_damping", "cohesion_energy_density",
+                                                   "relative_permeability", "restitution"};
+        if (p.name == "field_scale") {
+            if (!(p.lo > 0)) throw SceneError("--parameter", "field_scale must be positive");
+            p.pointer = "";
+        } else if (std::find(material.begin(), material.end(), p.name) != material.end()) {
+            p.pointer = "/material/" + p.name;
+        } else if (!p.name.empty() && p.name[0] == '/') {
+            p.pointer = p.name;
+            if (!spec.input.contains(nlohmann::json::json_pointer(p.pointer)))
+                throw SceneError("--parameter", p.pointer + " is not a key of the shear scene");
+        } else {
+            throw SceneError("--parameter", "unknown parameter '" + p.name +
+                                                "'; use rolling_friction, friction, rolling_damping, cohesion_energy_density, "
+                                                "relative_permeability, restitution, field_scale or a JSON pointer such as /material/friction");
+        }
+        out.push_back(p);
+    }
+    return out;
+}
+
+nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, const std::vector<CalibrationParameter>& params,
+                         int max_runs, const ShearOptions& options) {
+    nlohmann::json base = spec.input;
+    std::vector<double> rates;
+    for (const auto& p : data.points)
+        if (rates.empty() || p.rate < rates.back()) rates.push_back(p.rate);
+    nlohmann::json ladder = spec.resolved["ladder"];
+    ladder.erase("wall_speeds");
+    ladder["shear_rates"] = rates;
+    base["ladder"] = ladder;
+    base.erase("field_sweep");
+    const std::string root_dir = spec.output_directory;
+
+    nlohmann::json result = {{"status", "complete"}, {"exit_status", 0}, {"runs", nlohmann::json::array()},
+                             {"data_points", data.points.size()}, {"parameters", nlohmann::json::array()},
+                             {"objective", "RMS of (simulated - measured) / measured stress at the measured rates"},
+                             {"search", params.size() == 1 ? "golden-section search on [min, max]" : "Nelder-Mead simplex, clamped to the bounds"}};
+    for (const auto& p : params) result["parameters"].push_back({{"name", p.name}, {"min", p.lo}, {"max", p.hi}});
+    double best = 1e300;
+    bool stop = false;
+
+    auto evaluate = [&](const std::vector<double>& x) -> double {
+        if (stop || static_cast<int>(result["runs"].size()) >= max_runs) return 1e300;
+        nlohmann::json input = base;
+        nlohmann::json values = nlohmann::json::object();
+        for (std::size_t k = 0; k < params.size(); ++k) {
+            const double v = std::clamp(x[k], params[k].lo, params[k].hi);
+            values[params[k].name] = v;
+            if (params[k].pointer.empty()) input["field"]["flux_density"] = spec.flux_density * v;
+            else input[nlohmann::json::json_pointer(params[k].pointer)] = v;
+        }
+        const int run = static_cast<int>(result["runs"].size());
+        input["output"]["directory"] = (std::filesystem::path(root_dir) / ("calibrate_run_" + std::to_string(run))).string();
+        const ShearSpec s = read_shear_spec(input, spec.tier);
+        ShearOptions o = options;
+        o.label = "calibrate " + std::to_string(run + 1) + "/" + std::to_string(max_runs);
+        const ShearOutcome out = run_shear_study(s, o);
+        const double residual = out.status == "complete" ? wrap_residual(flow_points(out.results), data) : 1e300;
+        nlohmann::json rec = {{"values", values}, {"residual", residual < 1e299 ? nlohmann::json(residual) : nlohmann::json(nullptr)},
+                              {"status", out.status}, {"yield_stress_Pa", out.results["yield_stress_Pa"]}, {"wall_time_s", out.wall_time}};
+        result["runs"].push_back(rec);
+        if (options.progress)
+            std::fprintf(stderr, "[calibrate] run %d: %s -> residual %.4g\n", run + 1, values.dump().c_str(), residual);
+        if (out.exit_status == 130) { stop = true; result["status"] = "interrupted"; result["exit_status"] = 130; }
+        if (residual < best) {
+            best = residual;
+            result["best"] = {{"values", values}, {"residual", residual}, {"flow_curve", out.results["flow_curve"]},
+                              {"fits", out.results["fits"]}, {"yield_stress_Pa", out.results["yield_stress_Pa"]}};
+        }
+        return residual;
+    };
+
+    if (params.size() == 1) {
+        const double g = (std::sqrt(5.0) - 1) / 2;
+        double a = params[0].lo, b = params[0].hi;
+        double c = b - g * (b - a), d = a + g * (b - a);
+        double fc = evaluate({c}), fd = evaluate({d});
+        while (!stop && static_cast<int>(result["runs"].size()) < max_runs) {
+            if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = evaluate({c}); }
+            else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = evaluate({d}); }
+        }
+    } else {
+        // Nelder-Mead in the box, starting from a simplex around its centre.
+        std::vector<std::vector<double>> simplex(3, std::vector<double>(2));
+        for (int k = 0; k < 2; ++k) simplex[0][k] = 0.5 * (params[k].lo + params[k].hi);
+        simplex[1] = simplex[0];
+        simplex[1][0] += 0.25 * (params[0].hi - params[0].lo);
+        simplex[2] = simplex[0];
+        simplex[2][1] += 0.25 * (params[1].hi - params[1].lo);
+        std::vector<double> f(3);
+        for (int k = 0; k < 3; ++k) f[k] = evaluate(simplex[k]);
+        auto clampv = [&](std::vector<double> x) {
+            for (int k = 0; k < 2; ++k) x[k] = std::clamp(x[k], params[k].lo, params[k].hi);
+            return x;
+        };
+        while (!stop && static_cast<int>(result["runs"].size()) < max_runs) {
+            std::vector<int> order = {0, 1, 2};
+            std::sort(order.begin(), order.end(), [&](int i, int j) { return f[i] < f[j]; });
+            const int lo = order[0], mid = order[1], hi = order[2];
+            std::vector<double> centroid(2);
+            for (int k = 0; k < 2; ++k) centroid[k] = 0.5 * (simplex[lo][k] + simplex[mid][k]);
+            auto along = [&](double t) {
+                std::vector<double> x(2);
+                for (int k = 0; k < 2; ++k) x[k] = centroid[k] + t * (simplex[hi][k] - centroid[k]);
+                return clampv(x);
+            };
+            const auto xr = along(-1.0);
+            const double fr = evaluate(xr);
+            if (fr < f[lo]) {
+                const auto xe = along(-2.0);
+                const double fe = evaluate(xe);
+                if (fe < fr) { simplex[hi] = xe; f[hi] = fe; } else { simplex[hi] = xr; f[hi] = fr; }
+            } else if (fr < f[mid]) {
+                simplex[hi] = xr;
+                f[hi] = fr;
+            } else {
+                const auto xc = along(0.5);
+                const double fcon = evaluate(xc);
+                if (fcon < f[hi]) { simplex[hi] = xc; f[hi] = fcon; }
+                else {
+                    for (int k : {mid, hi}) {
+                        for (int q = 0; q < 2; ++q) simplex[k][q] = 0.5 * (simplex[k][q] + simplex[lo][q]);
+                        f[k] = evaluate(simplex[k]);
+                    }
+                }
+            }
+        }
+    }
+    return result;
+}
+
+}  // namespace mrjam

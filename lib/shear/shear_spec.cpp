@@ -1,0 +1,355 @@
+#include "shear/shear_spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "geometry/size_distribution.hpp"
+#include "scene/scene_node.hpp"
+
+namespace mrjam {
+namespace {
+
+std::string fmt_um(double m) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.3g um", m * 1e6);
+    return b;
+}
+
+// One table or single size; returns the distribution and the engine's "size" object.
+SizeDistribution read_part(SceneNode node, nlohmann::json& engine) {
+    const std::string kind = node.choice("distribution", {"single", "table"}, "table");
+    if (kind == "single") {
+        const double d = node.quantity("diameter", units::length, std::nullopt, Bounds::positive());
+        node.finish();
+        engine = {{"distribution", "single"}, {"diameter", d}};
+        return SizeDistribution::single(d);
+    }
+    const auto diameters = node.quantity_list("diameters", units::length, Bounds::positive());
+    const auto frequencies = node.quantity_list("frequencies", units::dimensionless, Bounds::non_negative());
+    if (diameters.empty())
+        node.fail("diameters", "the size table is empty; list the class diameters (e.g. [\"1.46 um\", ...]) with one frequency each");
+    if (diameters.size() != frequencies.size())
+        node.fail("frequencies", "needs one entry per diameter (" + std::to_string(diameters.size()) + ")");
+    const std::string basis = node.choice("basis", {"number", "volume"}, "number");
+    node.finish();
+    try {
+        auto d = SizeDistribution::table(diameters, frequencies,
+                                         basis == "number" ? SizeDistribution::FrequencyBasis::number
+                                                           : SizeDistribution::FrequencyBasis::volume);
+        engine = {{"distribution", "table"}, {"diameters", diameters}, {"frequencies", frequencies}, {"basis", basis}};
+        return d;
+    } catch (const std::invalid_argument& e) {
+        node.fail("frequencies", std::string(e.what()) + "; give at least one positive frequency");
+    }
+}
+
+// A single size, a table, or a mixture of them by share of solid volume (Trendler's 33:67 is
+// 33 parts of the small powder to 67 of the large, by volume of iron).
+SizeDistribution read_sizes(SceneNode node, nlohmann::json& engine) {
+    if (!node.has("distribution") || node.raw("distribution") != "mixture") return read_part(node, engine);
+    node.choice("distribution", {"mixture"}, std::nullopt);
+    std::vector<std::pair<SizeDistribution, double>> parts;
+    auto items = node.objects("parts", true);
+    if (items.empty()) node.fail("parts", "a mixture needs at least one part {\"share\": ..., \"size\": {...}}");
+    for (auto& item : items) {
+        const double share = item.number("share", std::nullopt, Bounds::non_negative());
+        nlohmann::json unused;
+        parts.emplace_back(read_part(item.object("size"), unused), share);
+        item.finish();
+    }
+    node.finish();
+    SizeDistribution mix = SizeDistribution::single(1);
+    try {
+        mix = SizeDistribution::mixture(parts);
+    } catch (const std::invalid_argument& e) {
+        node.fail("parts", std::string(e.what()) + "; give at least one positive share");
+    }
+    // The engine takes the merged classes as a number table.
+    std::vector<double> d, f;
+    for (const auto& c : mix.discrete_classes()) {
+        d.push_back(c.diameter);
+        f.push_back(c.number_fraction);
+    }
+    engine = {{"distribution", "table"}, {"diameters", d}, {"frequencies", f}, {"basis", "number"}};
+    return mix;
+}
+
+std::vector<double> decreasing_list(SceneNode& node, const std::string& key, const units::Dimension& dim) {
+    auto v = node.quantity_list(key, dim, Bounds::positive());
+    if (v.empty()) node.fail(key, "needs at least one entry");
+    for (std::size_t k = 1; k < v.size(); ++k)
+        if (!(v[k] < v[k - 1]))
+            throw SceneError(node.path_of(key) + "/" + std::to_string(k),
+                             "the ladder must decrease: the first, highest rate builds the sheared structure and each "
+                             "later rate relaxes it, as in the source's protocol; sort the entries from high to low");
+    return v;
+}
+
+}  // namespace
+
+ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_name) {
+    ShearSpec s;
+    const ShearTier* tier_ptr = nullptr;
+    try {
+        tier_ptr = &shear_tier(tier_name);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError("--fidelity", e.what());
+    }
+    const ShearTier& tier = *tier_ptr;
+    s.tier = tier.name;
+    s.input = input;
+    s.resolved = nlohmann::json::object();
+    if (!input.is_object()) throw SceneError("", "a shear scene is a JSON object (see docs/shear.md)");
+    SceneNode root(input, s.resolved, "");
+    root.choice("mode", {"shear"}, "shear");
+    root.text("description", "");
+    s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
+
+    {
+        json in = json::object();
+        auto given = root.optional_object("cell");
+        SceneNode cell = given ? *given : SceneNode(in, s.resolved["cell"], "/cell");
+        s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, tier.cell_size, tier.cell_size}, Bounds::positive());
+        s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+        if (!(s.gap() > 0))
+            cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) + " each) leave no gap in a cell " +
+                                            fmt_um(s.cell.z) + " high; thin the rafts or raise the cell");
+        cell.finish();
+    }
+    s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
+    SizeDistribution sizes = read_sizes(root.object("size"), s.size_table);
+    s.largest_diameter = sizes.max_diameter();
+
+    {
+        SceneNode mat = root.object("material");
+        const double youngs = mat.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::positive());
+        const double density = mat.quantity("density", units::density, std::nullopt, Bounds::positive());
+        // The other material keys go to the engine's reader, which checks them (its refusals are
+        // mapped back to /material/...); the echo keeps them as written.
+        nlohmann::json echo = input.at("material");
+        echo["youngs_modulus"] = youngs;
+        echo["density"] = density;
+        s.resolved["material"] = echo;
+        s.material = echo;
+        s.material["name"] = "grain";
+        json scaling_in = json::object();
+        auto scaling = root.optional_object("scaling");
+        SceneNode sc = scaling ? *scaling : SceneNode(scaling_in, s.resolved["scaling"], "/scaling");
+        s.stiffness_scale = sc.number("stiffness", tier.stiffness_scale, Bounds::open_closed(0.0, 1.0));
+        s.density_scale = sc.number("density", tier.density_scale, Bounds::closed(1.0, 1e4));
+        sc.finish();
+        s.material["youngs_modulus"] = youngs * s.stiffness_scale;
+        s.material["density"] = density * s.density_scale;
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("contact");
+        SceneNode c = given ? *given : SceneNode(in, s.resolved["contact"], "/contact");
+        s.rolling = c.choice("rolling", {"none", "epsd", "sds"}, "epsd");
+        s.cohesion = c.choice("cohesion", {"none", "sjkr", "dmt"}, "sjkr");
+        c.finish();
+    }
+    {
+        SceneNode f = root.object("fluid");
+        s.viscosity = f.quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
+        f.finish();
+    }
+    // Dissipation: Stokes drag against the affine (Couette) flow, as the source, or pairwise
+    // damping between touching grains with no background flow. The default damping coefficient
+    // is the Stokes coefficient 6 pi mu R of the number-mean grain, so the two are comparable.
+    s.dissipation = root.choice("dissipation", {"stokes_drag", "contact_damping"}, "stokes_drag");
+    if (s.dissipation == "contact_damping")
+        s.contact_damping = root.quantity("contact_damping", units::damping, 3.0 * M_PI * s.viscosity * sizes.mean_diameter_number(),
+                                          Bounds::positive());
+    else if (root.has("contact_damping"))
+        root.fail("contact_damping", "is used only with \"dissipation\": \"contact_damping\"");
+    {
+        SceneNode f = root.object("field");
+        s.flux_density = f.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
+        const Vec3 dir = f.vector("direction", units::dimensionless, Vec3{0, 0, 1});
+        if (norm(dir) == 0) f.fail("direction", "must be a non-zero vector (the source's field is along z, [0, 0, 1])");
+        s.field_direction = dir / norm(dir);
+        f.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("magnetic");
+        SceneNode m = given ? *given : SceneNode(in, s.resolved["magnetic"], "/magnetic");
+        s.magnetic = nlohmann::json::object();
+        s.magnetic["mutual"] = m.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
+        if (m.has("cutoff")) s.magnetic["cutoff"] = m.raw("cutoff");
+        else m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
+        for (const char* k : {"iterations", "tolerance", "max_iterations"})
+            if (m.has(k)) s.magnetic[k] = m.raw(k);
+        // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
+        // "none": the linear law of eq. 2.4 without a cap, the source's chapter-2 model.
+        s.saturation = m.choice("saturation", {"material", "none"}, "material");
+        m.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("run");
+        SceneNode r = given ? *given : SceneNode(in, s.resolved["run"], "/run");
+        s.run = nlohmann::json::object();
+        s.run["timestep_safety"] = r.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, 0.2));
+        s.run["characteristic_speed"] = r.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
+        // Magnetic attraction pulls small grains onto large ones at tens of m/s (drag is the only
+        // brake): with the source's soft modulus (1 GPa) an impact overlaps a small grain by
+        // 30-40% of its radius, resolved in ~40 steps - physics of the chosen modulus, not a
+        // numerical blow-up (docs/shear.md), so the guard sits at 0.6 rather than run's 0.1.
+        s.run["max_overlap_fraction"] = r.number("max_overlap_fraction", 0.6, Bounds::open(0.0, 1.0));
+        if (r.has("timestep")) s.run["timestep"] = r.raw("timestep");
+        r.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("magnetise");
+        SceneNode m = given ? *given : SceneNode(in, s.resolved["magnetise"], "/magnetise");
+        s.magnetise_check_every = m.quantity("check_every", units::time, 1e-6, Bounds::positive());
+        s.magnetise_window = static_cast<int>(m.integer("window", 5, 2, 1000));
+        s.magnetise_tolerance = m.number("tolerance", 0.02, Bounds::open(0.0, 1.0));
+        s.magnetise_min = m.quantity("min_duration", units::time, 10e-6, Bounds::non_negative());
+        // A field switched on at once pulls small grains onto large ones at tens of m/s (Stokes
+        // drag is the only brake), overlapping them by 40% of their radius with the source's soft
+        // modulus. Raising it over a few microseconds, as any real magnet does over far longer,
+        // lets the first chains form gently; the settled structure is what is sheared.
+        s.field_ramp = m.quantity("field_ramp", units::time, 5e-6, Bounds::non_negative());
+        s.magnetise_max = m.quantity("max_duration", units::time, tier.magnetise_max, Bounds::positive());
+        if (s.magnetise_max < s.magnetise_min) m.fail("max_duration", "must not be shorter than min_duration");
+        m.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("ladder");
+        SceneNode l = given ? *given : SceneNode(in, s.resolved["ladder"], "/ladder");
+        if (l.has("wall_speeds") && l.has("shear_rates"))
+            l.fail("shear_rates", "give either 'wall_speeds' or 'shear_rates', not both");
+        if (l.has("wall_speeds")) {
+            s.wall_speeds = decreasing_list(l, "wall_speeds", units::velocity);
+            // The rafts move at +v and -v: the rate across the gap is 2 v / gap.
+            for (double v : s.wall_speeds) s.rates.push_back(2 * v / s.gap());
+        } else {
+            if (l.has("shear_rates")) {
+                s.rates = decreasing_list(l, "shear_rates", units::frequency);
+            } else {
+                // The source's ladder: wall speeds 0.128 ... 0.001 m/s across its 220 um gap
+                // (sec. 2.4.2), kept as rates so a smaller cell shears at the same rates.
+                for (double v : {0.128, 0.064, 0.032, 0.011, 0.008, 0.004, 0.002, 0.001}) s.rates.push_back(2 * v / 220e-6);
+                l.resolved_child("shear_rates") = s.rates;
+            }
+            for (double g : s.rates) s.wall_speeds.push_back(0.5 * g * s.gap());
+        }
+        if (l.has("steps_first") || l.has("steps_per_rate")) {
+            s.steps_first = l.integer("steps_first", std::nullopt, 1);
+            s.steps_per_rate = l.integer("steps_per_rate", std::nullopt, 1);
+        } else {
+            s.strain_first = l.number("strain_first", tier.strain_first, Bounds::positive());
+            s.strain_per_rate = l.number("strain_per_rate", tier.strain_per_rate, Bounds::positive());
+        }
+        l.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("measure");
+        SceneNode m = given ? *given : SceneNode(in, s.resolved["measure"], "/measure");
+        s.samples_per_rate = static_cast<int>(m.integer("samples_per_rate", 40, 4, 100000));
+        s.window_fraction = m.number("window", 0.5, Bounds::open_closed(0.0, 1.0));
+        s.blocks = static_cast<int>(m.integer("blocks", 5, 1, 1000));
+        if (s.blocks > static_cast<int>(s.samples_per_rate * s.window_fraction))
+            m.fail("blocks", "more blocks than samples in the window (" +
+                                 std::to_string(static_cast<int>(s.samples_per_rate * s.window_fraction)) +
+                                 "); use fewer blocks or more samples_per_rate");
+        m.finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("fit");
+        SceneNode f = given ? *given : SceneNode(in, s.resolved["fit"], "/fit");
+        s.bingham_min_rate = f.quantity("bingham_min_rate", units::frequency, 200.0, Bounds::non_negative());
+        f.finish();
+    }
+    if (auto sw = root.optional_object("field_sweep")) {
+        s.sweep_fields = sw->quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
+        if (s.sweep_fields.empty()) sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
+        s.sweep_rate = sw->quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
+        s.sweep_strain = sw->number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
+        sw->finish();
+    }
+    if (auto ex = root.optional_object("experiment")) {
+        s.experiment = nlohmann::json::object();
+        s.experiment["label"] = ex->text("label", "experiment");
+        if (ex->has("yield_stress"))
+            s.experiment["yield_stress_Pa"] = ex->quantity("yield_stress", units::pressure, std::nullopt, Bounds::positive());
+        if (ex->has("flow_curve")) {
+            const auto& fc = ex->raw("flow_curve");
+            if (!fc.is_array()) ex->fail("flow_curve", "must be a list of [shear rate in 1/s, stress in Pa] pairs");
+            for (std::size_t k = 0; k < fc.size(); ++k)
+                if (!fc[k].is_array() || fc[k].size() != 2 || !fc[k][0].is_number() || !fc[k][1].is_number())
+                    throw SceneError(ex->path_of("flow_curve") + "/" + std::to_string(k), "must be [shear rate in 1/s, stress in Pa]");
+            s.experiment["flow_curve"] = fc;
+        }
+        if (ex->has("other_yield_stresses")) s.experiment["other_yield_stresses"] = ex->raw("other_yield_stresses");
+        ex->finish();
+    }
+    {
+        json in = json::object();
+        auto given = root.optional_object("output");
+        SceneNode o = given ? *given : SceneNode(in, s.resolved["output"], "/output");
+        s.output_directory = o.text("directory", "out/shear");
+        s.progress_interval = o.quantity("progress_interval", units::time, 5.0, Bounds::positive());
+        s.checkpoint_every_seconds = o.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
+        o.finish();
+    }
+    root.finish();
+    return s;
+}
+
+nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
+    nlohmann::json scene = {
+        {"mode", "shear"},
+        {"seed", s.seed},
+        {"domain", {{"lo", {0, 0, 0}}, {"hi", {s.cell.x, s.cell.y, s.cell.z}}, {"periodic", "xy"}}},
+        {"materials", {s.material}},
+        {"contact", {{"model", "hertz_mindlin"}, {"rolling", s.rolling}, {"cohesion", s.cohesion}}},
+        {"fluid", {{"viscosity", s.viscosity}}},
+        {"walls",
+         {{{"name", "bottom"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
+          {{"name", "top"}, {"type", "plane"}, {"point", {0, 0, s.cell.z}}, {"normal", {0, 0, -1}}}}},
+        {"grains",
+         {{{"material", "grain"}, {"size", s.size_table},
+           {"placement", {{"method", "random"}, {"volume_fraction", s.volume_fraction}}}}}},
+        {"run", s.run},
+        {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
+                    {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
+    scene["run"]["steps"] = 0;
+    if (s.dissipation == "contact_damping") {
+        scene.erase("fluid");
+        scene["contact"]["pair_damping"] = s.contact_damping;
+    }
+    // Without saturation the cap is put out of reach: M_s V would exceed any induced moment.
+    if (s.saturation == "none") scene["materials"][0]["saturation_magnetisation"] = 1e300;
+    if (flux_density > 0) {
+        nlohmann::json mag = s.magnetic;
+        const Vec3 b = s.field_direction * flux_density;
+        mag["field"] = {{"type", "uniform"}, {"flux_density", {b.x, b.y, b.z}}, {"ramp", s.field_ramp}};
+        scene["magnetic"] = mag;
+    }
+    return scene;
+}
+
+std::string shear_path_of(const std::string& p) {
+    const std::pair<const char*, const char*> map[] = {
+        {"/materials/0", "/material"}, {"/grains/0/size", "/size"}, {"/grains/0/placement/volume_fraction", "/volume_fraction"},
+        {"/grains/0", "/size"}, {"/domain", "/cell/size"}, {"/magnetic/field", "/field"}, {"/magnetic", "/magnetic"},
+        {"/run", "/run"}, {"/output", "/output"}};
+    for (const auto& [from, to] : map)
+        if (p.rfind(from, 0) == 0) {
+            std::string rest = p.substr(std::string(from).size());
+            if (std::string(to) == "/cell/size") rest.clear();
+            return to + rest;
+        }
+    return p;
+}
+
+}  // namespace mrjam

@@ -1,0 +1,145 @@
+#include "shear/shear_stress.hpp"
+
+#include <cmath>
+
+#include "magnetic/magnetic_model.hpp"
+
+namespace mrjam {
+namespace {
+
+double rolling_inertia_of(const Particles& p, std::size_t i) {
+    return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
+}
+
+// Sum over touching grain pairs with a free grain of (z_i - z_j) f_ij,x, re-evaluating each
+// contact law on a copy of its history (the state is not changed).
+template <RollingModel Rolling, CohesionModel Cohesion>
+double contact_moment(const System& s) {
+    const Particles& p = s.particles;
+    const NeighborList& list = s.contacts;
+    double sum = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[k]) continue;
+            const double dist = std::sqrt(r2), ri = p.radius[i], rj = p.radius[j];
+            ContactInput in;
+            in.normal = d * (1.0 / dist);
+            in.overlap = ri + rj - dist;
+            in.distance = dist;
+            in.radius_i = ri;
+            in.radius_j = rj;
+            in.reduced_radius = ri * rj / (ri + rj);
+            in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+            in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
+            in.contact_velocity = p.velocity[i] - p.velocity[j] - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
+            in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
+            in.wall = false;
+            ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
+            ContactOutput out;
+            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
+            sum += d.z * out.force_on_i.x;
+            if (s.physics.pair_damping > 0) sum += d.z * (-s.physics.pair_damping * (p.velocity[i].x - p.velocity[j].x));
+        }
+    }
+    return sum;
+}
+
+template <RollingModel Rolling>
+double contact_moment_cohesion(const System& s) {
+    switch (s.physics.cohesion) {
+        case CohesionModel::none: return contact_moment<Rolling, CohesionModel::none>(s);
+        case CohesionModel::sjkr: return contact_moment<Rolling, CohesionModel::sjkr>(s);
+        case CohesionModel::dmt: return contact_moment<Rolling, CohesionModel::dmt>(s);
+    }
+    return 0;
+}
+
+double contact_moment_any(const System& s) {
+    if (!s.physics.contact) return 0;
+    switch (s.physics.rolling) {
+        case RollingModel::none: return contact_moment_cohesion<RollingModel::none>(s);
+        case RollingModel::epsd: return contact_moment_cohesion<RollingModel::epsd>(s);
+        case RollingModel::sds: return contact_moment_cohesion<RollingModel::sds>(s);
+    }
+    return 0;
+}
+
+// The same sum for the magnetic pairs, with the dipole-dipole force of eq. 4.8 (the moments are
+// the ones the last force evaluation used, up to the lagged update that followed it).
+double magnetic_moment_sum(const System& s) {
+    if (!s.magnetic.enabled) return 0;
+    const Particles& p = s.particles;
+    const NeighborList& list = s.magnetic.pairs;
+    double sum = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[k]) continue;
+            const double inv_r2 = 1.0 / r2;
+            const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
+            const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
+            const double mi_d = dot(mi, d), mj_d = dot(mj, d);
+            const Vec3 force = (mj * mi_d + mi * mj_d + d * (dot(mi, mj) - 5.0 * mi_d * mj_d * inv_r2)) * (3.0 * kMu0 * c * inv_r2);
+            sum += d.z * force.x;
+        }
+    }
+    return sum;
+}
+
+}  // namespace
+
+ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int top_wall, int bottom_wall, double z_lower,
+                         double z_upper) {
+    const Particles& p = s.particles;
+    const Vec3 L = s.domain.length();
+    const double area = L.x * L.y;
+    ShearStress out;
+    double f_upper = 0, f_lower = 0, drag_moment = 0, kinetic = 0;
+    const double z_mid = 0.5 * (z_lower + z_upper);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.raft[i] == upper_raft && upper_raft >= 0) f_upper += p.force[i].x;
+        else if (p.raft[i] == lower_raft && lower_raft >= 0) f_lower += p.force[i].x;
+        else if (p.raft[i] < 0) {
+            const Vec3 u = s.flow->velocity(p.position[i], s.time);
+            if (s.physics.drag) drag_moment += (p.position[i].z - z_mid) * (-(p.velocity[i].x - u.x) * 6.0 * M_PI * s.physics.viscosity * p.radius[i]);
+            kinetic += p.mass[i] * (p.velocity[i].x - u.x) * p.velocity[i].z;
+        }
+    }
+    if (top_wall >= 0) f_upper += s.walls[top_wall].force.x;
+    if (bottom_wall >= 0) f_lower += s.walls[bottom_wall].force.x;
+    out.upper = -f_upper / area;
+    out.lower = f_lower / area;
+    const double volume = area * (z_upper - z_lower);
+    out.bulk = -(contact_moment_any(s) + magnetic_moment_sum(s) + drag_moment + kinetic) / volume;
+    return out;
+}
+
+ChainState chain_state(const System& s, const Vec3& field_direction) {
+    const Particles& p = s.particles;
+    const NeighborList& list = s.contacts;
+    std::size_t contacts = 0;
+    double cos_sum = 0;
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[k]) continue;
+            ++contacts;
+            cos_sum += std::abs(dot(d, field_direction)) / std::sqrt(r2);
+        }
+    }
+    ChainState c;
+    c.contacts_per_grain = p.size() ? 2.0 * contacts / p.size() : 0.0;
+    c.mean_abs_cos = contacts ? cos_sum / contacts : 0.0;
+    return c;
+}
+
+}  // namespace mrjam

@@ -1,0 +1,213 @@
+// End-to-end checks of `mrjam shear`: a short study writes a report with the required keys and its
+// plots; bad shear scenes are refused with exit 2 and the JSON path; an interrupted study resumes
+// without redoing finished rates and ends where an uninterrupted one ends; --calibrate runs.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "test_support.hpp"
+
+using namespace mrjam_test;
+using json = nlohmann::json;
+
+namespace {
+
+// Monodisperse 6.7 um iron in a 40 um cell: about 120 grains, a fraction of a second per study.
+json small_scene(const std::string& out_dir) {
+    return {{"description", "test"},
+            {"size", {{"distribution", "single"}, {"diameter", "6.7 um"}}},
+            {"cell", {{"size", {"40 um", "40 um", "40 um"}}, {"raft_thickness", "7 um"}}},
+            {"material", {{"density", "7800 kg/m3"}, {"youngs_modulus", "1 GPa"}, {"poisson_ratio", 0.278}, {"restitution", 0.1},
+                          {"friction", 0.1}, {"rolling_friction", 0.1}, {"rolling_damping", 0.1}, {"cohesion_energy_density", "60 kJ/m3"}}},
+            {"fluid", {{"viscosity", "10 mPa s"}}},
+            {"field", {{"flux_density", "600 mT"}}},
+            {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "6 us"}}},
+            {"ladder", {{"shear_rates", {"3000 1/s", "1500 1/s", "600 1/s"}}, {"strain_first", 0.1}, {"strain_per_rate", 0.05}}},
+            {"measure", {{"samples_per_rate", 20}, {"blocks", 5}}},
+            {"experiment", {{"yield_stress", "44.9 kPa"}, {"flow_curve", {{1000, 50000}, {300, 46000}}}}},
+            {"output", {{"directory", out_dir}}}};
+}
+
+Result shear(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam(dir, "shear " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --fidelity quick " + extra);
+}
+
+void expect_shear_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
+    CAPTURE(label);
+    const Result r = shear(dir, label, scene, "--quiet");
+    CHECK(r.exit_code == 2);
+    CAPTURE(r.err);
+    CHECK(r.err.find(path) != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("shear cli: a short study reports the flow curve, the fits, the yield stress, the field sweep and its plots") {
+    TempDir dir;
+    json scene = small_scene(dir.file("out"));
+    scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1000 1/s"}, {"strain", 0.05}};
+    const Result r = shear(dir, "s", scene);
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find("[shear]") != std::string::npos);  // progress on stderr
+    const json rep = json::parse(slurp(dir.file("s_report.json")));
+    CHECK(rep["mode"] == "shear");
+    CHECK(rep["status"] == "complete");
+    CHECK(rep["fidelity"]["tier"] == "quick");
+    const json& res = rep["results"];
+    REQUIRE(res["flow_curve"].size() == 3);
+    for (const auto& q : res["flow_curve"]) {
+        CHECK(q["rate_1_s"].get<double>() > 0);
+        CHECK(q["stress_Pa"].is_number());
+        CHECK(q["error_Pa"].get<double>() >= 0);
+    }
+    CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == doctest::Approx(3000));
+    REQUIRE(res["yield_stress_Pa"].is_number());
+    CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);
+    CHECK(res["fits"].contains("casson"));
+    CHECK(res["fits"].contains("herschel_bulkley"));
+    CHECK(res["magnetisation"].contains("criterion"));
+    CHECK(res["experiment"]["yield_stress_Pa"].get<double>() == doctest::Approx(44.9e3));
+    CHECK(res["experiment"].contains("relative_error"));
+    REQUIRE(res["field_sweep"].size() == 2);
+    CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == doctest::Approx(0.4));
+    CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
+    for (const char* key : {"flow_curve", "field_sweep"}) {
+        const std::string svg = slurp(rep["plots"][key].get<std::string>());
+        CHECK(svg.rfind("<svg", 0) == 0);
+    }
+}
+
+TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when asked") {
+    TempDir dir;
+    json scene = small_scene(dir.file("out"));
+    scene["dissipation"] = "contact_damping";
+    const Result r = shear(dir, "damped", scene, "--quiet");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json rep = json::parse(slurp(dir.file("damped_report.json")));
+    CHECK_FALSE(rep["engine_scene"].contains("fluid"));  // no drag against the affine flow
+    // Default coefficient: the Stokes coefficient of the mean grain, 6 pi mu R = 3 pi mu d.
+    CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == doctest::Approx(3 * M_PI * 0.01 * 6.7e-6));
+    CHECK(rep["results"]["flow_curve"].size() == 3);
+    scene.erase("dissipation");
+    scene["contact_damping"] = "1 uN s/m";
+    const Result stray = shear(dir, "stray", scene, "--quiet");
+    CHECK(stray.exit_code == 2);
+    CHECK(stray.err.find("/contact_damping") != std::string::npos);
+}
+
+TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {
+    TempDir dir;
+    json base = small_scene(dir.file("out"));
+    {
+        json s = base;
+        s["ladder"]["shear_rates"] = {"600 1/s", "1500 1/s"};
+        expect_shear_refused(dir, "increasing_rates", s, "/ladder/shear_rates/1");
+    }
+    {
+        json s = base;
+        s["ladder"].erase("shear_rates");
+        s["ladder"]["wall_speeds"] = {0.1, 0.05, 0.05};
+        expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
+    }
+    {
+        json s = base;
+        s["cell"] = {{"size", {"40 um", "40 um", "20 um"}}, {"raft_thickness", "3 um"}};
+        expect_shear_refused(dir, "thin_cell", s, "/cell/size");
+    }
+    {
+        json s = base;
+        s["size"] = {{"distribution", "table"}, {"diameters", json::array()}, {"frequencies", json::array()}};
+        expect_shear_refused(dir, "empty_table", s, "/size/diameters");
+    }
+    {
+        json s = base;
+        s["material"]["frictoin"] = 0.2;
+        expect_shear_refused(dir, "typo", s, "/material/frictoin");
+    }
+    {
+        json s = base;
+        s["size"] = {{"distribution", "mixture"}, {"parts", {{{"share", 0}, {"size", {{"distribution", "single"}, {"diameter", "5 um"}}}}}}};
+        expect_shear_refused(dir, "zero_share", s, "/size/parts");
+    }
+}
+
+TEST_CASE("shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
+    TempDir dir;
+    json scene = small_scene(dir.file("out_full"));
+    scene["ladder"] = {{"shear_rates", {"3000 1/s", "2000 1/s", "1000 1/s", "500 1/s"}}, {"strain_first", 0.3}, {"strain_per_rate", 0.1}};
+    const Result full = shear(dir, "full", scene, "--quiet");
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+
+    scene["output"]["directory"] = dir.file("out_cut");
+    write_text(dir.file("cut.json"), scene.dump());
+    const double wall = a["wall_time_s"].get<double>();
+    const std::string delay = std::to_string(std::max(0.05, 0.5 * wall));
+    const Result cut = mrjam(dir, "shear " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
+                                      " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+    if (cut.exit_code == 0) {
+        MESSAGE("the study finished before the signal arrived: nothing to resume");
+        return;
+    }
+    REQUIRE(cut.exit_code == 130);
+    const json c = json::parse(slurp(dir.file("cut_report.json")));
+    CHECK(c["status"] == "interrupted");
+    CHECK(c["resume_with"].get<std::string>().find("--resume") != std::string::npos);
+    const std::size_t finished = c["results"]["flow_curve"].size();
+    const Result resumed = mrjam(dir, "shear --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
+                                          quote(dir.file("resumed.json")));
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    // Rates finished before the interrupt are not run again (no progress line reports them).
+    for (std::size_t k = 0; k < finished; ++k) {
+        char line[64];
+        std::snprintf(line, sizeof line, "rate %.4g 1/s:", c["results"]["flow_curve"][k]["rate_1_s"].get<double>());
+        CHECK(resumed.err.find(line) == std::string::npos);
+    }
+    const json b = json::parse(slurp(dir.file("resumed.json")));
+    REQUIRE(b["results"]["flow_curve"].size() == a["results"]["flow_curve"].size());
+    // The checkpoint holds the whole state, so the resumed study ends bit for bit where the full one does.
+    for (std::size_t k = 0; k < a["results"]["flow_curve"].size(); ++k) {
+        CHECK(b["results"]["flow_curve"][k]["stress_Pa"] == a["results"]["flow_curve"][k]["stress_Pa"]);
+        CHECK(b["results"]["flow_curve"][k]["bulk_stress_Pa"] == a["results"]["flow_curve"][k]["bulk_stress_Pa"]);
+    }
+}
+
+TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and reports the optimum") {
+    TempDir dir;
+    const json scene = small_scene(dir.file("out"));
+    write_text(dir.file("data.csv"), "# rate (1/s), stress (Pa)\nrate,stress\n3000, 30000\n1500, 28000\n");
+    const Result r = shear(dir, "cal", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter field_scale=0.5:1.5 --max-runs 4");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json rep = json::parse(slurp(dir.file("cal_report.json")));
+    CHECK(rep["mode"] == "shear-calibrate");
+    REQUIRE(rep["runs"].size() == 4);
+    double best = 1e300;
+    for (const auto& run : rep["runs"]) {
+        const double f = run["values"]["field_scale"];
+        CHECK(f >= 0.5);
+        CHECK(f <= 1.5);
+        if (run["residual"].is_number()) best = std::min(best, run["residual"].get<double>());
+    }
+    CHECK(rep["best"]["residual"].get<double>() == best);
+    CHECK(rep["best"]["flow_curve"].size() == 2);  // the ladder is the data's rates
+    CHECK(slurp(rep["plots"]["calibration"].get<std::string>()).rfind("<svg", 0) == 0);
+
+    write_text(dir.file("bad.csv"), "1000, 2\n");
+    const Result bad = shear(dir, "bad", scene, "--quiet --calibrate " + quote(dir.file("bad.csv")) + " --parameter friction=0.05:0.3");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--calibrate") != std::string::npos);
+    const Result unknown = shear(dir, "unk", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter fricton=0.05:0.3");
+    CHECK(unknown.exit_code == 2);
+    CHECK(unknown.err.find("fricton") != std::string::npos);
+}
+
+}  // TEST_SUITE
