@@ -40,14 +40,7 @@ TEST_SUITE("cli") {
 TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     TempDir dir;
     auto refused = [&](const std::string& label, const json& scene, const std::string& path) {
-        CAPTURE(label);
-        write_text(dir.file(label + ".json"), scene.dump());
-        const Result r = mrjam_test::mrjam(dir, "jam " + quote(dir.file(label + ".json")) + " --report " +
-                                        quote(dir.file(label + "_report.json")) + " --quiet");
-        CHECK(r.exit_code == 2);
-        CAPTURE(r.err);
-        CHECK(r.err.find(path) != std::string::npos);
-        CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
+        expect_mode_refused(dir, "jam", label, scene, path);
     };
     refused("narrow_throat", {{"valve", {{"constriction_diameter", "40 um"}}}}, "/valve/constriction_diameter");
     refused("zero_threshold", {{"protocol", {{"arrest_fraction", 0}}}}, "/protocol/arrest_fraction");

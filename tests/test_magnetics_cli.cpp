@@ -13,19 +13,12 @@ using nlohmann::json;
 namespace {
 
 Result run_magnetics(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
-    write_text(dir.file(name + ".json"), scene.dump(2));
-    return mrjam_test::mrjam(dir, "magnetics " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --quiet " + extra);
+    return run_mode(dir, "magnetics", name, scene, extra);
 }
 
 void expect_magnetics_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path,
                               const std::string& extra = "") {
-    CAPTURE(label);
-    const Result r = run_magnetics(dir, label, scene, extra);
-    CHECK(r.exit_code == 2);
-    CAPTURE(r.err);
-    CHECK(r.err.find(path) != std::string::npos);
-    CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
+    expect_mode_refused(dir, "magnetics", label, scene, path, extra);
 }
 
 }  // namespace

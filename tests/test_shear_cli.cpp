@@ -35,12 +35,7 @@ Result shear(const TempDir& dir, const std::string& name, const json& scene, con
 }
 
 void expect_shear_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
-    CAPTURE(label);
-    const Result r = shear(dir, label, scene, "--quiet");
-    CHECK(r.exit_code == 2);
-    CAPTURE(r.err);
-    CHECK(r.err.find(path) != std::string::npos);
-    CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
+    expect_mode_refused(dir, "shear", label, scene, path, "--fidelity quick");
 }
 
 }  // namespace

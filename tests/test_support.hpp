@@ -74,24 +74,36 @@ inline Result mrjam(const TempDir& dir, const std::string& args, const std::stri
     return r;
 }
 
+// Writes `scene` as NAME.json and runs `mrjam MODE NAME.json --report NAME_report.json --quiet EXTRA`.
+inline Result run_mode(const TempDir& dir, const std::string& mode, const std::string& name, const nlohmann::json& scene,
+                       const std::string& extra = "") {
+    write_text(dir.file(name + ".json"), scene.dump(2));
+    return mrjam(dir, mode + " " + quote(dir.file(name + ".json")) + " --report " +
+                          quote(dir.file(name + "_report.json")) + " --quiet " + extra);
+}
+
 // Writes `scene` and runs it; the report goes next to it.
 inline Result run_scene(const TempDir& dir, const std::string& name, const nlohmann::json& scene,
                         const std::string& extra = "") {
-    write_text(dir.file(name + ".json"), scene.dump(2));
-    return mrjam(dir, "run " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --quiet " + extra);
+    return run_mode(dir, "run", name, scene, extra);
 }
 
-// Expects refusal: exit code 2, stderr naming `path`, and no report (refused before any work).
-inline Result expect_refused(const TempDir& dir, const std::string& label, const nlohmann::json& scene,
-                             const std::string& path) {
+// Expects a mode to refuse the scene: exit code 2, stderr naming `path`, and no report (refused
+// before any work).
+inline Result expect_mode_refused(const TempDir& dir, const std::string& mode, const std::string& label,
+                                  const nlohmann::json& scene, const std::string& path, const std::string& extra = "") {
     CAPTURE(label);
-    const Result r = run_scene(dir, label, scene);
+    const Result r = run_mode(dir, mode, label, scene, extra);
     CHECK(r.exit_code == 2);
     CAPTURE(r.err);
     CHECK(r.err.find(path) != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir.file(label + "_report.json")));
     return r;
+}
+
+inline Result expect_refused(const TempDir& dir, const std::string& label, const nlohmann::json& scene,
+                             const std::string& path) {
+    return expect_mode_refused(dir, "run", label, scene, path);
 }
 #endif
 
