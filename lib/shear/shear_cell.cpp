@@ -233,8 +233,12 @@ private:
             const bool ok = step(n, what);
             done += s.step - before;
             cur["magnetise_steps"] = done;
-            if (!ok) return false;
-            if (done % check_steps != 0 && done < max_steps) continue;
+            // A check due at this step is made even when Ctrl-C came: the resumed run starts past
+            // it and would otherwise never make it (and might settle at another time).
+            if (done % check_steps != 0 && done < max_steps) {
+                if (!ok) return false;
+                continue;
+            }
             const ChainState cs = chain_state(s, spec_.field_direction);
             log.push_back({{"time_s", s.time}, {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos", cs.mean_abs_cos}});
             if (done >= min_steps && static_cast<int>(log.size()) >= spec_.magnetise_window) {
@@ -254,6 +258,7 @@ private:
                     break;
                 }
             }
+            if (!ok) return false;
         }
         const ChainState cs = chain_state(s, spec_.field_direction);
         cur["magnetisation"] = {{"settled", settled}, {"max_overlap_ratio_seen", max_overlap_}, {"duration_s", done * s.dt}, {"steps", done},
@@ -317,7 +322,8 @@ private:
             const bool ok = step(n, what);
             i += s.step - before;
             cur["step_in_rate"] = i;
-            if (!ok) return false;
+            // A sample due at this step is taken even when Ctrl-C came, before the checkpoint:
+            // the resumed run starts past it and would otherwise lose it.
             if (i % every == 0 || i == total) {
                 const ShearStress st = shear_stress(s, 1, 0, wall_index("top"), wall_index("bottom"), spec_.raft_thickness,
                                                     spec_.cell.z - spec_.raft_thickness);
@@ -325,6 +331,7 @@ private:
                 cur["samples"]["lower"].push_back(st.lower);
                 cur["samples"]["bulk"].push_back(st.bulk);
             }
+            if (!ok) return false;
         }
         auto window = [&](const char* key) {
             const auto all = cur["samples"][key].get<std::vector<double>>();
