@@ -54,6 +54,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double slab_diameters = model.number("slab_thickness_diameters", ts.slab_diameters, Bounds::non_negative());
     const double upstream = model.quantity("upstream_length", units::length, ts.upstream, Bounds::positive());
     const double downstream = model.quantity("downstream_length", units::length, ts.downstream, Bounds::positive());
+    // The engine tier sets the dipoles' cutoff (quick 2, standard 3, paper 5 diameters); a scene may fix it.
+    const double cutoff = model.has("magnetic_cutoff_diameters")
+                              ? model.number("magnetic_cutoff_diameters", std::nullopt, Bounds::closed(1.0, 20.0))
+                              : 0.0;
     model.finish();
 
     // The valve: the model's lengths replace the valve's own unless the valve gives them.
@@ -208,7 +212,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         {"fluid", {{"viscosity", viscosity}, {"flow", {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}}}}},
         {"walls", walls},
         {"grains", batches},
-        {"magnetic", {{"field", field_json}}},
+        {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}} : json{{"field", field_json}}},
         {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
         {"stages", json::array({{{"name", "flow"}, {"duration", p.flow_time}},
                                 {{"name", "field_on"}, {"duration", p.max_time}},
