@@ -66,17 +66,18 @@ void add_design_command(CLI::App& app, int& exit_status) {
     cmd->callback([args, &exit_status] {
         const json design = read_json_file(args->scene);
         if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
-        for (const auto& [key, value] : design.items())
-            if (key != "description" && key != "magnetics" && key != "jam" && key != "constrictions" &&
-                key != "required_jam_probability" && key != "seeds" && key != "output_directory")
-                throw SceneError("/" + key, "unknown key (expected description, magnetics, jam, constrictions, "
-                                            "required_jam_probability, seeds, output_directory)");
-        const auto constrictions = read_constrictions(design.value("constrictions", json::array({"20x", "30x", "40x"})));
-        const double required = design.value("required_jam_probability", 1.0);
-        if (!(required > 0 && required <= 1)) throw SceneError("/required_jam_probability", "must lie in (0, 1]");
-        const int seeds = design.value("seeds", 1);
-        if (seeds < 1) throw SceneError("/seeds", "must be at least 1");
-        const fs::path out_dir = design.value("output_directory", std::string("out/design"));
+        // The design's own keys; `magnetics` and `jam` are scenes of those modes, checked by their readers.
+        json resolved;
+        SceneNode root(design, resolved, "");
+        root.text("description", "");
+        const json& magnetics_block = design.contains("magnetics") ? root.raw("magnetics") : json::object();
+        const json& jam_block = design.contains("jam") ? root.raw("jam") : json::object();
+        const auto constrictions = read_constrictions(design.contains("constrictions") ? root.raw("constrictions")
+                                                                                       : json::array({"20x", "30x", "40x"}));
+        const double required = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
+        const int seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
+        const fs::path out_dir = root.text("output_directory", "out/design");
+        root.finish();
         const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
@@ -92,7 +93,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const fs::path dir = out_dir / name;
             fs::create_directories(dir);
             // 1. The field of this valve.
-            json mscene = design.value("magnetics", json::object());
+            json mscene = magnetics_block;
             mscene["valve"]["constriction_diameter"] = diameter;
             mscene["valve"].erase("constriction");
             mscene["state"] = "on";
@@ -106,7 +107,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             FieldMap(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing, field.fluid_map.values)
                 .write(map.string());
             // 2. The jam predictor in that field, with the same valve.
-            json jscene = design.value("jam", json::object());
+            json jscene = jam_block;
             jscene["valve"] = ms.resolved["valve"];
             for (const char* k : {"upstream_length", "downstream_length"}) jscene["valve"].erase(k);
             jscene["field"] = {{"type", "map"}, {"file", fs::absolute(map).string()}};
