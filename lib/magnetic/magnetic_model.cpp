@@ -76,9 +76,7 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
                 hi += h_at_i;
                 h[j] += h_at_j;
                 if constexpr (WithForces) {
-                    // Eq. 4.8 with rhat from j to i.
-                    const Vec3 force = (mj * mi_d + mi * mj_d + d * (dot(mi, mj) - 5.0 * mi_d * mj_d * inv_r2)) *
-                                       (3.0 * kMu0 * c * inv_r2);
+                    const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, mi_d, mj_d);
                     fi += force;
                     f[j] -= force;
                 }

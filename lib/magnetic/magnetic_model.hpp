@@ -20,6 +20,13 @@ namespace mrjam {
 
 inline constexpr double kMu0 = 1.25663706212e-6;  // vacuum permeability, T m / A
 
+// Eq. 4.8: the force on dipole m_i from dipole m_j, d = x_i - x_j (rhat from j to i), given
+// inv_r2 = 1/|d|^2, c = 1/(4 pi |d|^3) and the projections m_i.d, m_j.d the field pass shares.
+inline Vec3 dipole_pair_force(const Vec3& mi, const Vec3& mj, const Vec3& d, double inv_r2, double c, double mi_d,
+                              double mj_d) {
+    return (mj * mi_d + mi * mj_d + d * (dot(mi, mj) - 5.0 * mi_d * mj_d * inv_r2)) * (3.0 * kMu0 * c * inv_r2);
+}
+
 enum class MutualPolicy {
     fixed,       // moments from the applied field only (fixed dipole method)
     lagged,      // neighbours' fields from the previous step's moments: one update per step

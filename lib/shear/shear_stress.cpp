@@ -85,8 +85,7 @@ double magnetic_moment_sum(const System& s) {
             const double inv_r2 = 1.0 / r2;
             const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
             const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
-            const double mi_d = dot(mi, d), mj_d = dot(mj, d);
-            const Vec3 force = (mj * mi_d + mi * mj_d + d * (dot(mi, mj) - 5.0 * mi_d * mj_d * inv_r2)) * (3.0 * kMu0 * c * inv_r2);
+            const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
             sum += d.z * force.x;
         }
     }
