@@ -159,9 +159,10 @@ void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
     const PhysicsSettings& ph = s.physics;
     for (std::size_t i = begin; i < end; ++i) {
         if (ph.drag) {
-            // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f).
+            // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f), times the flow's hindered-drag factor.
             const Vec3 vf = s.flow->velocity(p.position[i], s.time);
-            f[i] -= (p.velocity[i] - vf) * (6.0 * M_PI * ph.viscosity * p.radius[i]);
+            const double factor = s.flow->drag_factor(p.position[i]);
+            f[i] -= (p.velocity[i] - vf) * (6.0 * M_PI * ph.viscosity * p.radius[i] * factor);
         }
         if (ph.gravity) {
             const double volume = 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];

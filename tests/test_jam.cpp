@@ -2,6 +2,7 @@
 // command's refusals and report.
 #include <doctest/doctest.h>
 
+#include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/throat_flux.hpp"
 #include "magnetics/getdp_problem.hpp"
@@ -31,6 +32,95 @@ TEST_CASE("throat flux: crossings counted with sign, periodic wraps ignored") {
     CHECK(flux.rate_between(1, 2) == doctest::Approx(1.0));
     CHECK(flux.rate(1.0) == doctest::Approx(1.0));
     CHECK(flux.rate(5.0) == 0.0);  // history shorter than the window
+}
+
+TEST_CASE("axial resistance: cell volumes, Kozeny-Carman factor, and the circuit's flow scale") {
+    ValveGeometry v;
+    v.upstream_length = 1.0e-3;
+    v.downstream_length = 0.5e-3;
+    const double phi0 = 0.345, P = 105e3;
+    // Full bore: the cells' fluid volumes add up to the passage's exact volume (midpoint rule in
+    // z; the cone's quadratic section is integrated to ~1e-5 by 64 samples per cell).
+    const AxialResistance bore(v, 0.0, -v.upstream_length, v.downstream_length, 88e-6, phi0, P);
+    double total = 0;
+    for (std::size_t k = 0; k < bore.cells(); ++k) total += bore.cell_volume(k);
+    CHECK(total == doctest::Approx(v.fluid_volume()).epsilon(1e-4));
+    // A slab |x| < h inside the bore holds the chord area: cross-checked on a straight bore cell.
+    const double h = 66e-6, rb = v.bore_radius();
+    const AxialResistance slab(v, h, -v.upstream_length, v.downstream_length, 88e-6, phi0, P);
+    CHECK(slab.cell_section(0) == doctest::Approx(slab_section(rb, h)).epsilon(1e-12));
+    CHECK(slab_section(rb, h) == doctest::Approx(4 * h * rb).epsilon(1e-3));  // thin slab: a 2h x 2r_b strip
+
+    // Kozeny-Carman per grain, phi / (1 - phi)^2, relative to the feed: 1 at and below the feed.
+    CHECK(bore.drag_factor(phi0) == doctest::Approx(1.0));
+    CHECK(bore.drag_factor(0.1) == 1.0);
+    CHECK(bore.drag_factor(0.55) == doctest::Approx(0.55 / (0.45 * 0.45) * (0.655 * 0.655) / 0.345));
+    CHECK(bore.drag_factor(0.9) == bore.drag_factor(0.62));  // capped, finite
+
+    // The flow scale: one grain in the straight bore upstream, at the feed's density (factor 1).
+    System s;
+    s.physics.viscosity = 0.16;
+    const double R = 20e-6;
+    s.particles.position = {{0, 0, -0.8e-3}};
+    s.particles.radius = {R};
+    s.particles.velocity = {{0, 0, 0}};
+    ValveFlow flow(v, 0.273);
+    AxialResistance one(v, 0.0, -v.upstream_length, v.downstream_length, 88e-6, 1e-6, P);  // feed ~0: factor from phi
+    const std::size_t k = static_cast<std::size_t>((-0.8e-3 + v.upstream_length) / (1.5e-3 / one.cells()));
+    const double phi = 4.0 / 3.0 * M_PI * R * R * R / one.cell_volume(k);
+    const double d1 = 6 * M_PI * 0.16 * R * one.drag_factor(phi) * 0.273 / one.cell_section(k);
+    // At rest: s = P / (P + D1/A).
+    AxialResistanceState st = one.update(s, flow, true);
+    CHECK(st.scale == doctest::Approx(P / (P + d1)).epsilon(1e-12));
+    CHECK(flow.scale() == st.scale);
+    CHECK(st.stretch_pressure == doctest::Approx(st.scale * d1).epsilon(1e-12));
+    // Moving with the fluid: no slip, no extra resistance, the prescribed flow.
+    s.particles.velocity = {{0, 0, 0.273}};
+    st = one.update(s, flow, true);
+    CHECK(st.scale == doctest::Approx(1.0));
+    CHECK(st.stretch_pressure == doctest::Approx(0.0).scale(1.0));
+    // The prescribed flow is only measured: scale and factors untouched.
+    ValveFlow prescribed(v, 0.273);
+    s.particles.velocity = {{0, 0, 0}};
+    st = one.update(s, prescribed, false);
+    CHECK(prescribed.scale() == 1.0);
+    CHECK(prescribed.drag_factor({0, 0, -0.8e-3}) == 1.0);
+    CHECK(st.arrested_pressure == doctest::Approx(6 * M_PI * 0.16 * R * 0.273 / one.cell_section(k)));
+}
+
+TEST_CASE("axial resistance: a packed plug in the throat stops the pressure-driven flow") {
+    // A lens of grains packed at 0.6 in the throat, at rest: the drag the prescribed flow would
+    // put on it, as pressure on the throat's section, is far above the supply pressure, so
+    // the flow falls below a tenth (~2,000 grains x 1.4e-4 N x the packing factor ~3 on 0.61 mm^2:
+    // ~1.6 MPa against 105 kPa); the same grains moving with the fluid leave it at 1.
+    ValveGeometry v;
+    v.constriction_diameter = 0.88e-3;
+    v.upstream_length = 1.0e-3;
+    v.downstream_length = 0.5e-3;
+    System s;
+    s.physics.viscosity = 0.16;
+    const double R = 20e-6, rt = v.throat_radius();
+    // 0.2 mm cells from -0.9 mm: cell 4 is exactly the straight throat (-0.1 .. 0.1 mm).
+    const AxialResistance res(v, 0.0, -0.9e-3, 0.5e-3, 0.2e-3, 0.345, 105e3);
+    // Grains on a lattice filling the throat cylinder at ~0.6.
+    const double a = std::cbrt(4.0 / 3.0 * M_PI * R * R * R / 0.6);
+    for (double z = -0.1e-3 + 0.5 * a; z < 0.1e-3; z += a)
+        for (double x = -rt; x <= rt; x += a)
+            for (double y = -rt; y <= rt; y += a)
+                if (x * x + y * y < (rt - R) * (rt - R)) {
+                    s.particles.position.push_back({x, y, z});
+                    s.particles.radius.push_back(R);
+                    s.particles.velocity.push_back({0, 0, 0});
+                }
+    ValveFlow flow(v, 0.273);
+    const AxialResistanceState st = res.update(s, flow, true);
+    CAPTURE(st.max_fraction);
+    CHECK(st.max_fraction > 0.45);
+    CHECK(st.arrested_pressure > 10 * 105e3);
+    CHECK(st.scale < 0.1);
+    CHECK(flow.drag_factor({0, 0, 0}) > 1.5);
+    for (auto& vel : s.particles.velocity) vel = flow.unscaled({0, 0, 0});  // moving with the unscaled fluid
+    CHECK(res.update(s, flow, true).scale == doctest::Approx(1.0));
 }
 
 }  // TEST_SUITE

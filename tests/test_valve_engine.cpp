@@ -62,10 +62,10 @@ TEST_CASE("passage wall: overlap and normal on the bore, the cone and the orific
     CHECK(wall.passage_radius(-3e-3) == doctest::Approx(rb));
 }
 
-TEST_CASE("valve flow: the source's profile and one flow rate through every section") {
+TEST_CASE("valve flow, conserving reading: the source's shape and one flow rate through every section") {
     ValveGeometry v;
     const double U = 0.273;
-    const ValveFlow flow(v, U);
+    const ValveFlow flow(v, U, ValveFlow::Profile::conserving);
     const double rb = v.bore_radius(), rt = v.throat_radius();
     // In the bore: U inside the constriction's diameter, linear to 0 at the bore wall.
     CHECK(flow.velocity({0, 0, -3e-3}, 0).z == doctest::Approx(U));
@@ -85,7 +85,33 @@ TEST_CASE("valve flow: the source's profile and one flow rate through every sect
             q += flow.velocity({rho, 0, z}, 0).z * 2 * M_PI * rho * R / n;
         }
         CHECK(q == doctest::Approx(flow.reference_flow_rate()).epsilon(1e-6));
+        CHECK(flow.flow_rate_at(z) == doctest::Approx(flow.reference_flow_rate()).epsilon(1e-6));
     }
+}
+
+TEST_CASE("valve flow, source reading: the bore profile up to the orifice, the raised plug in the throat") {
+    ValveGeometry v;
+    const double U = 0.273;
+    const ValveFlow flow(v, U);  // the default reading
+    CHECK(flow.profile() == ValveFlow::Profile::source);
+    const double rb = v.bore_radius(), rt = v.throat_radius();
+    const double mid_taper = v.taper_start_z() + 0.5 * v.taper_length;
+    const double R = v.passage_radius(mid_taper);
+    // In the taper the bore's profile holds unchanged, cut off by the cone wall.
+    CHECK(flow.velocity({0, 0, mid_taper}, 0).z == doctest::Approx(U));
+    const double r = 0.5 * (rt + R);
+    CHECK(flow.velocity({0, r, mid_taper}, 0).z == doctest::Approx(U * (rb - r) / (rb - rt)));
+    CHECK(flow.velocity({0, R * 1.0001, mid_taper}, 0).z == 0.0);
+    // In the straight throat, a plug raised by the area ratio.
+    for (double rho : {0.0, 0.5 * rt, 0.99 * rt})
+        CHECK(flow.velocity({rho, 0, 0}, 0).z == doctest::Approx(U * (rb / rt) * (rb / rt)));
+    // Flow rates: the bore's is the reference; the taper carries less (the cone cuts the ramp);
+    // the throat carries U pi r_b^2, more than the bore (the ramp's deficit): the source's
+    // field is not a conserving one, and the report says so.
+    CHECK(flow.flow_rate_at(-3e-3) == doctest::Approx(flow.reference_flow_rate()).epsilon(1e-6));
+    CHECK(flow.flow_rate_at(mid_taper) < flow.reference_flow_rate());
+    CHECK(flow.flow_rate_at(0.0) == doctest::Approx(U * M_PI * rb * rb).epsilon(1e-6));
+    CHECK(flow.flow_rate_at(0.0) > flow.reference_flow_rate());
 }
 
 }  // TEST_SUITE

@@ -14,6 +14,9 @@ public:
     virtual ~FlowField() = default;
     virtual Vec3 velocity(const Vec3& x, double time) const = 0;
     virtual std::string name() const = 0;
+    // Multiplies the Stokes drag at x: 1 for a dilute suspension; a hindered-drag model (the
+    // valve's packed-bed resistance) raises it where grains pack.
+    virtual double drag_factor(const Vec3&) const { return 1.0; }
 };
 
 class StillFlow final : public FlowField {

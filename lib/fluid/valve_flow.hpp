@@ -2,15 +2,27 @@
 // The carrier flow through a valve's bore and constriction (geometry/valve.hpp frame: axis z).
 //
 // The source's prescribed profile (section 3.4.4): speed U (0.273 m/s) inside the constriction's
-// diameter, falling linearly to zero at the bore wall; inside the constriction the speed is
-// raised by the area ratio. mrjam applies it at every axial position with the local radius R(z):
-//     u_z = U (r_b / R)^2                       for r <= R r_t / r_b   (the plug)
-//     u_z = U (r_b / R)^2 (R - r)/(R - R r_t/r_b) up to the wall r = R,
-// which is the source's profile in the bore (R = r_b) and carries the same flow rate through
-// every section of the taper and throat (the plug-and-ramp shape scales with R, the speed with
-// 1/R^2). `scale` multiplies it: 1 for the prescribed flow, set by a pressure controller for
-// the pressure-driven option.
+// diameter, falling linearly to zero at the bore wall; "in a volume immediately inside the
+// constriction" the speed is raised by the area ratio (r_b / r_t)^2. Two readings of it:
+//
+//  * `source` (default, the source's own field): the bore profile
+//        u_z = U                              for r <= r_t
+//        u_z = U (r_b - r) / (r_b - r_t)      for r_t < r <= r_b
+//    holds at every axial position, also in the taper (cut off by the cone wall), and the
+//    straight throat carries the plug U (r_b / r_t)^2. It does not carry the same flow rate
+//    through every section (the taper carries less than the bore, the throat more), but it is
+//    what the source's simulation prescribed: grains arriving at the orifice meet the bore's
+//    slow flow, and only grains inside the throat are swept at the raised speed.
+//  * `conserving`: the plug-and-ramp shape scaled with the local radius R(z),
+//        u_z = U (r_b / R)^2                         for r <= R r_t / r_b
+//        u_z = U (r_b / R)^2 (R - r)/(R - R r_t/r_b) up to the wall r = R,
+//    the same flow rate through every section: the fluid accelerates along the taper, so the
+//    grains meet the raised speed before the orifice.
+//
+// `scale` multiplies either: 1 for the prescribed flow, set by a pressure controller for the
+// pressure-driven option.
 #include <atomic>
+#include <vector>
 
 #include "fluid/flow_field.hpp"
 #include "geometry/valve.hpp"
@@ -19,21 +31,35 @@ namespace mrjam {
 
 class ValveFlow final : public FlowField {
 public:
-    ValveFlow(ValveGeometry valve, double bore_speed) : valve_(valve), speed_(bore_speed) {}
+    enum class Profile { source, conserving };
+    ValveFlow(ValveGeometry valve, double bore_speed, Profile profile = Profile::source)
+        : valve_(valve), speed_(bore_speed), profile_(profile) {}
     Vec3 velocity(const Vec3& x, double) const override { return unscaled(x) * scale(); }
     Vec3 unscaled(const Vec3& x) const;  // the profile at scale 1
     std::string name() const override { return "valve"; }
 
-    // Volumetric flow rate at scale 1 (the same through every section), m^3/s.
+    // Volumetric flow rate through the bore at scale 1 (for `conserving`, through every section), m^3/s.
     double reference_flow_rate() const;
+    // Flow rate through the section at z at scale 1, m^3/s (quadrature of the profile).
+    double flow_rate_at(double z) const;
     double scale() const { return scale_.load(std::memory_order_relaxed); }
     void set_scale(double s) { scale_.store(s, std::memory_order_relaxed); }
     const ValveGeometry& valve() const { return valve_; }
+    Profile profile() const { return profile_; }
+
+    // Hindered drag per axial cell (lib/jam/axial_resistance.hpp): cell k covers
+    // [z_lo + k dz, z_lo + (k+1) dz); outside the grid, or before any is set, the factor is 1.
+    // Set between steps only (the force pass reads it).
+    void set_drag_factors(double z_lo, double dz, std::vector<double> factors);
+    double drag_factor(const Vec3& x) const override;
 
 private:
     ValveGeometry valve_;
     double speed_;
+    Profile profile_;
     std::atomic<double> scale_{1.0};
+    double cells_lo_ = 0, cell_length_ = 0;
+    std::vector<double> drag_factors_;
 };
 
 }  // namespace mrjam

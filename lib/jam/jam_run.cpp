@@ -6,6 +6,7 @@
 
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
+#include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/throat_flux.hpp"
@@ -33,12 +34,6 @@ bool spans_throat(const System& s, const ContactClusters& c, const ValveGeometry
         if (x.y < 0) lower = true;
     }
     return upper && lower;
-}
-
-// The bore's cross-section inside the slab |x| < h: the chord region of the circle.
-double slab_section(double r, double h) {
-    if (h >= r) return M_PI * r * r;
-    return 2.0 * (h * std::sqrt(r * r - h * h) + r * r * std::asin(h / r));
 }
 
 }  // namespace
@@ -69,32 +64,22 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     const Wall* valve_wall = nullptr;
     for (const auto& w : s.walls)
         if (w.kind == Wall::Kind::passage) valve_wall = &w;
-    // Pressure-limited flow: the fluid pushes the grains with the drag sum_i 6 pi mu R_i (s u_i - v_i)
-    // along the axis; it cannot exceed the supply pressure times the section it acts on, so
-    // the profile's scale is s = min(1, (P A + D_v) / D_1) (D_1: the drag of the unscaled flow on
-    // grains at rest, D_v: that of their own motion). Free-flowing grains (v = u) leave s = 1;
-    // an arrested bed slows the fluid until it carries exactly P A.
+    // The carrier flow's resistance cells (lib/jam/axial_resistance.hpp): with the pressure
+    // option they set the flow; with the prescribed flow they only measure what it would push
+    // an arrested bed with.
     auto valve_flow = std::dynamic_pointer_cast<ValveFlow>(s.flow);
-    const double section = js.slab_half_thickness > 0 ? slab_section(js.valve.bore_radius(), js.slab_half_thickness)
-                                                      : M_PI * js.valve.bore_radius() * js.valve.bore_radius();
-    double prescribed_drag = 0;  // D_1 at the last observation, N
-    std::vector<std::pair<double, double>> scale_history;
+    const AxialResistance resistance(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
+                                     js.valve.downstream_length, js.flow.cell_length, js.feed_fraction,
+                                     js.flow.supply_pressure);
+    AxialResistanceState flow_state;
+    struct FlowSample { double time, scale, stretch_pressure, max_fraction; };
+    std::vector<FlowSample> flow_history;
     auto observer = [&](const System& sys, std::size_t, long) {
         flux.observe(sys);
         if (!valve_flow) return;
-        const auto& g = sys.particles;
-        double d1 = 0, dv = 0;
-        for (std::size_t i = 0; i < g.size(); ++i) {
-            const double c = 6.0 * M_PI * sys.physics.viscosity * g.radius[i];
-            d1 += c * valve_flow->unscaled(g.position[i]).z;
-            dv += c * g.velocity[i].z;
-        }
-        prescribed_drag = d1;
-        if (js.flow.pressure_limited && d1 > 0) {
-            const double scale = std::clamp((js.flow.supply_pressure * section + dv) / d1, 0.0, 1.0);
-            valve_flow->set_scale(scale);
-            scale_history.push_back({sys.time, scale});
-        }
+        flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
+        if (js.flow.pressure_driven)
+            flow_history.push_back({sys.time, flow_state.scale, flow_state.stretch_pressure, flow_state.max_fraction});
     };
     run.stage_finished = [&](const System& sys, std::size_t stage) {
         const double t = sys.time;
@@ -158,19 +143,27 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history},
                          {"partial", outcome.exit_status != 0}};
     r["field_switched_on_s"] = p.flow_time;
-    r["flow_model"] = js.flow.pressure_limited ? "pressure-limited (source's profile, slowed so the drag on the grains "
-                                                 "does not exceed the supply pressure on the section)"
-                                               : "prescribed (source's profile, fluid/valve_flow.hpp)";
-    // What the prescribed flow would push an arrested bed with, as a pressure on the section
+    r["flow_model"] = js.flow.pressure_driven
+                          ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the source's "
+                            "profile through a circuit resistance sized for the prescribed flow plus the grains' "
+                            "Kozeny-Carman resistance in axial cells"
+                          : "prescribed (the source's profile, fluid/valve_flow.hpp; Stokes drag)";
+    r["flow_profile"] = valve_flow && valve_flow->profile() == ValveFlow::Profile::conserving ? "conserving" : "source";
+    // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
     // (the source tuned its flow so that this was about 100 kPa).
-    r["arrested_bed_drag_pressure_Pa"] = prescribed_drag / section;
-    if (js.flow.pressure_limited) {
+    r["arrested_bed_drag_pressure_Pa"] = flow_state.arrested_pressure;
+    if (js.flow.pressure_driven) {
         r["supply_pressure_Pa"] = js.flow.supply_pressure;
-        r["final_flow_scale"] = valve_flow ? valve_flow->scale() : 1.0;
+        r["resistance_cells"] = resistance.cells();
+        r["final_flow_scale"] = flow_state.scale;
+        r["final_densest_cell_fraction"] = flow_state.max_fraction;
         nlohmann::json sh = nlohmann::json::array();
-        const std::size_t step = std::max<std::size_t>(1, scale_history.size() / 200);
-        for (std::size_t i = 0; i < scale_history.size(); i += step) sh.push_back({scale_history[i].first, scale_history[i].second});
-        r["flow_scale_history"] = sh;
+        const std::size_t step = std::max<std::size_t>(1, flow_history.size() / 200);
+        for (std::size_t i = 0; i < flow_history.size(); i += step)
+            sh.push_back({flow_history[i].time, flow_history[i].scale, flow_history[i].stretch_pressure,
+                          flow_history[i].max_fraction});
+        r["flow_history"] = {{"columns", {"time_s", "flow_scale", "stretch_pressure_Pa", "densest_cell_fraction"}},
+                             {"rows", sh}};
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
     if (!options.picture_path.empty() && s.particles.size() > 0) {

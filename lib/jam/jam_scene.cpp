@@ -89,6 +89,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double fraction = grains.number("volume_fraction", 0.345, Bounds::open(0.0, 0.64));
     grains.finish();
     out.largest_diameter = *std::max_element(table.diameters.begin(), table.diameters.end());
+    out.feed_fraction = fraction;
     if (out.largest_diameter >= v.constriction_diameter)
         throw SceneError("/valve/constriction_diameter", "the throat is not wider than the largest grain (" +
                                                              std::to_string(out.largest_diameter * 1e6) +
@@ -108,8 +109,14 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     SceneNode fluid = root.object("fluid");
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-    out.flow.pressure_limited = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
+    const std::string profile = fluid.choice("profile", {"source", "conserving"}, "source");
+    out.flow.pressure_driven = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
     out.flow.supply_pressure = fluid.quantity("supply_pressure", units::pressure, 105e3, Bounds::positive());
+    out.flow.cell_length = fluid.quantity("resistance_cell_length", units::length, 2.0 * out.largest_diameter, Bounds::positive());
+    if (out.flow.cell_length < out.largest_diameter)
+        fluid.fail("resistance_cell_length", "must be at least the largest grain's diameter (" +
+                                                 std::to_string(out.largest_diameter * 1e6) +
+                                                 " um): a cell's volume fraction is counted from grain centres");
     fluid.finish();
 
     // Field: uniform across the valve (y) or a map from `mrjam magnetics`.
@@ -209,7 +216,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
         {"materials", json::array({material})},
         {"contact", {{"model", "hertz_mindlin"}}},
-        {"fluid", {{"viscosity", viscosity}, {"flow", {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}}}}},
+        {"fluid", {{"viscosity", viscosity}, {"flow", {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}, {"profile", profile}}}}},
         {"walls", walls},
         {"grains", batches},
         {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}} : json{{"field", field_json}}},

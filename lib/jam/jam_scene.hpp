@@ -24,11 +24,12 @@ struct JamProtocol {
     long observe_every = 50;        // steps between flux observations
 };
 
-// The carrier flow: the source's prescribed profile, or the same profile limited by the supply
-// pressure (the flow slows until the drag on the grains equals the pressure on the section).
+// The carrier flow: the source's prescribed profile, or driven by the supply pressure through
+// the grains' Kozeny-Carman resistance on axial cells (lib/jam/axial_resistance.hpp).
 struct JamFlow {
-    bool pressure_limited = false;
+    bool pressure_driven = false;
     double supply_pressure = 105e3;  // Pa
+    double cell_length = 0;          // m, resistance cells (default: 2 largest-grain diameters)
 };
 
 struct JamScene {
@@ -39,6 +40,7 @@ struct JamScene {
     ValveGeometry valve;
     double slab_half_thickness = 0; // 0: the full bore
     double largest_diameter = 0;
+    double feed_fraction = 0;       // the mix's volume fraction
     std::string field_type;         // uniform or map
     std::string tier;
 };

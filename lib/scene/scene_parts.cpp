@@ -71,7 +71,8 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
         // constriction's diameter in the bore, raised by the area ratio inside the constriction.
         const ValveGeometry valve = read_valve(node.object("valve"));
         const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-        flow = std::make_shared<ValveFlow>(valve, speed);
+        const bool conserving = node.choice("profile", {"source", "conserving"}, "source") == "conserving";
+        flow = std::make_shared<ValveFlow>(valve, speed, conserving ? ValveFlow::Profile::conserving : ValveFlow::Profile::source);
     } else if (type == "uniform") {
         flow = std::make_shared<UniformFlow>(node.vector("velocity", units::velocity, std::nullopt));
     } else if (type == "couette") {
