@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# One command for a newcomer: install dependencies, build, run the bundled example scene.
+# One command for a newcomer: install dependencies, build, run the main job (a quick valve design).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 ./scripts/build.sh
-# The valve's field (gmsh + GetDP, ~15 s), then the field map drives grains in the engine.
-./build/mrjam magnetics examples/epm_rectangular_on.json --report out/epm_rectangular_on/report.json \
-    --field-map out/epm_rectangular_on/field.map
-./build/mrjam run examples/settle_column.json --report out/settle_column/report.json
-echo "magnetics report: out/epm_rectangular_on/report.json (picture: out/epm_rectangular_on/report_B_midplane.png)"
+# The main job, end to end (a few minutes): for the 20x and 40x constrictions, the rectangular
+# bracket's field (gmsh + GetDP), its field map, the jam predictor in that field at 105 kPa,
+# and the open valve's flow rate; then which constriction is the widest that still jams.
+./build/mrjam design examples/design_quick.json --fidelity quick --report out/design_quick/report.json
+# The engine on its own: grains settling in a box, with ParaView snapshots.
+./build/mrjam run examples/settle_column.json --report out/settle_column/report.json --quiet
+echo "design report: out/design_quick/report.json (per constriction: field, jam outcome, open flow;"
+echo "  field pictures and throat pictures under out/design_quick/<constriction>/)"
 echo "DEM report: out/settle_column/report.json; snapshots (ParaView): out/settle_column/snapshot_*.vtk"

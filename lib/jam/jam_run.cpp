@@ -74,12 +74,23 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     AxialResistanceState flow_state;
     struct FlowSample { double time, scale, stretch_pressure, max_fraction; };
     std::vector<FlowSample> flow_history;
+    double next_report = 0.1e-3;
     auto observer = [&](const System& sys, std::size_t, long) {
         flux.observe(sys);
         if (!valve_flow) return;
         flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
         if (js.flow.pressure_driven)
             flow_history.push_back({sys.time, flow_state.scale, flow_state.stretch_pressure, flow_state.max_fraction});
+        // A line per 0.1 ms of simulated time: what a user watches for is the flux.
+        if (options.progress && sys.time >= next_report) {
+            next_report = sys.time + 0.1e-3;
+            const double rate = flux.rate(std::min(0.1e-3, sys.time));
+            std::cerr << "[jam] t = " << sys.time * 1e3 << " ms: grain flux " << rate << " /s";
+            if (base_rate > 0) std::cerr << " (" << std::lround(100 * rate / base_rate) << " % of the no-field flux)";
+            if (js.flow.pressure_driven)
+                std::cerr << ", flow scale " << flow_state.scale << ", densest cell " << flow_state.max_fraction;
+            std::cerr << "\n";
+        }
     };
     run.stage_finished = [&](const System& sys, std::size_t stage) {
         const double t = sys.time;
