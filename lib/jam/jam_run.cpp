@@ -7,7 +7,9 @@
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
+#include "jam/jam_snapshots.hpp"
 #include "jam/throat_flux.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
@@ -29,6 +31,13 @@ bool spans_throat(const System& s, const ContactClusters& c, const ValveGeometry
         double overlap;
         Vec3 n;
         if (!wall.touch(x, p.radius[i] * 1.05, overlap, n)) continue;  // touching, with 5 % slack
+        if (v.is_slot()) {
+            // Across the slot's gap: its faces along the field (y), not the narrow side faces.
+            if (std::abs(n.y) <= std::abs(n.x)) continue;
+            if (n.y < 0) upper = true;
+            if (n.y > 0) lower = true;
+            continue;
+        }
         if (x.y > 0) upper = true;
         if (x.y < 0) lower = true;
     }
@@ -49,8 +58,18 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     BuildOptions build;
     build.threads = options.threads;
     build.fidelity = js.tier;
+    const bool resuming = !options.resume_checkpoint.empty();
+    JamCheckpoint checkpoint;
+    if (resuming) {
+        // As `mrjam run --resume`: the grains, lists and step come from the checkpoint.
+        checkpoint = read_jam_checkpoint(options.resume_checkpoint);
+        build.insert_grains = false;
+        engine = checkpoint.header.resolved_scene;
+    }
     Scene scene = build_scene(engine, build);
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);
     choose_timestep(scene);
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
     const JamProtocol& p = js.protocol;
 
@@ -68,7 +87,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     run.observe_every = p.observe_every;
     const Wall* valve_wall = nullptr;
     for (const auto& w : s.walls)
-        if (w.kind == Wall::Kind::passage) valve_wall = &w;
+        if (w.kind == Wall::Kind::passage || w.kind == Wall::Kind::slot_passage) valve_wall = &w;
     // Pressure-limited flow: the fluid pushes the grains with the drag sum_i 6 pi mu R_i (s u_i - v_i)
     // along the axis; it cannot exceed the supply pressure times the section it acts on, so
     // the profile's scale is s = min(1, (P A + D_v) / D_1) (D_1: the drag of the unscaled flow on
@@ -129,7 +148,57 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         }
         return false;
     };
-    const RunOutcome outcome = run_protocol(scene, run, {}, observer);
+    // ---- Snapshots and checkpoint/resume (kept apart from the flow controller above) ----
+    JamSnapshots snapshots;
+    if (!options.snapshot_directory.empty()) snapshots = JamSnapshots(options.snapshot_directory, options.snapshot_every, seed);
+    // Everything the protocol carries from one observation to the next that the engine's
+    // checkpoint does not: restored below, it makes the resumed run take the same decisions.
+    auto protocol_state = [&] {
+        const double off = field->switch_off_time();
+        nlohmann::json sh = nlohmann::json::array();
+        for (const auto& [t, v] : scale_history) sh.push_back({t, v});
+        return nlohmann::json{
+            {"seed", seed}, {"flux", flux.save()}, {"base_rate", base_rate}, {"arrest_time", arrest_time},
+            {"release_start", release_start}, {"passed_at_switch_on", passed_at_switch_on}, {"passed_at_arrest", passed_at_arrest},
+            {"jammed", jammed}, {"released", released}, {"undetermined", undetermined},
+            {"field_off_s", std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr)},
+            {"flow_scale", valve_flow ? valve_flow->scale() : 1.0}, {"prescribed_drag", prescribed_drag},
+            {"scale_history", sh}, {"snapshots", snapshots.save()}};
+    };
+    ProtocolPosition start;
+    if (resuming) {
+        const nlohmann::json& st = checkpoint.state;
+        flux.restore(st.at("flux"));
+        base_rate = st.at("base_rate");
+        arrest_time = st.at("arrest_time");
+        release_start = st.at("release_start");
+        passed_at_switch_on = st.at("passed_at_switch_on");
+        passed_at_arrest = st.at("passed_at_arrest");
+        jammed = st.at("jammed");
+        released = st.at("released");
+        undetermined = st.at("undetermined");
+        if (!st.at("field_off_s").is_null()) field->switch_off_at(st["field_off_s"].get<double>());
+        if (valve_flow) valve_flow->set_scale(st.at("flow_scale").get<double>());
+        prescribed_drag = st.at("prescribed_drag");
+        scale_history = st.at("scale_history").get<std::vector<std::pair<double, double>>>();
+        snapshots.restore(st.at("snapshots"));
+        start = checkpoint.header.position;
+        run.resumed_stage_log = checkpoint.stage_log;
+    }
+    run.checkpoint_state = [&] { return nlohmann::json{{"protocol", protocol_state()}, {"campaign", options.campaign}}; };
+    auto observe_all = [&](const System& sys, std::size_t stage, long step) {
+        observer(sys, stage, step);
+        snapshots.observe(sys);
+    };
+    auto protocol_finished = run.stage_finished;
+    run.stage_finished = [&](const System& sys, std::size_t stage) {
+        const bool was_jammed = jammed;
+        const bool done = protocol_finished(sys, stage);
+        if (jammed && !was_jammed) snapshots.write_tagged(sys, "arrest");
+        return done;
+    };
+    const RunOutcome outcome = run_protocol(scene, run, start, observe_all);
+    if (outcome.exit_status == 0) snapshots.write_tagged(s, "end");
 
     JamOutcome out;
     out.report = outcome.report;
@@ -163,7 +232,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                                                : "prescribed (source's profile, fluid/valve_flow.hpp)";
     // What the prescribed flow would push an arrested bed with, as a pressure on the section
     // (the source tuned its flow so that this was about 100 kPa).
-    r["arrested_bed_drag_pressure_Pa"] = prescribed_drag / section;
+    r["arrested_bed_drag_pressure_Pa"] = valve_flow ? nlohmann::json(prescribed_drag / section) : nlohmann::json(nullptr);  // null: slot orifice
     if (js.flow.pressure_limited) {
         r["supply_pressure_Pa"] = js.flow.supply_pressure;
         r["final_flow_scale"] = valve_flow ? valve_flow->scale() : 1.0;
@@ -173,6 +242,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         r["flow_scale_history"] = sh;
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+    if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
     if (!options.picture_path.empty() && s.particles.size() > 0) {
         write_throat_picture(options.picture_path, s, clusters, js.valve);
         out.report["outputs"]["throat_picture"] = options.picture_path;

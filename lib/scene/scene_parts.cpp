@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 
 namespace mrjam {
@@ -71,7 +72,10 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
         // constriction's diameter in the bore, raised by the area ratio inside the constriction.
         const ValveGeometry valve = read_valve(node.object("valve"));
         const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-        flow = std::make_shared<ValveFlow>(valve, speed);
+        if (valve.is_slot())
+            flow = std::make_shared<SlotValveFlow>(valve.slot(), speed);
+        else
+            flow = std::make_shared<ValveFlow>(valve, speed);
     } else if (type == "uniform") {
         flow = std::make_shared<UniformFlow>(node.vector("velocity", units::velocity, std::nullopt));
     } else if (type == "couette") {
@@ -163,6 +167,8 @@ ValveGeometry read_valve(SceneNode node) {
         v.constriction_diameter = constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
     else
         v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
+    v.orifice = node.choice("orifice", {"circular", "slot"}, "circular") == "slot" ? Orifice::slot : Orifice::circular;
+    if (node.has("slot_width") || v.is_slot()) v.slot_width = node.quantity("slot_width", L, 0.0, Bounds::any());
     v.taper_length = node.quantity("taper_length", L, v.taper_length, Bounds::any());
     v.throat_length = node.quantity("throat_length", L, v.throat_length, Bounds::any());
     v.upstream_length = node.quantity("upstream_length", L, v.upstream_length, Bounds::any());

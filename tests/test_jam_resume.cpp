@@ -1,0 +1,191 @@
+// `mrjam jam --resume` and `--snapshots`: a jam run continued from a checkpoint taken in any
+// phase of its protocol (or of its seeds) ends bit for bit as the uninterrupted run, and the
+// snapshots carry each grain's contact cluster.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "test_support.hpp"
+
+using namespace mrjam_test;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A valve a few tenths of a millimetre long at the quick tier: about 10^3 grains, a second of
+// work per run. `arrest_fraction` 0.95 makes the field's slowing of the flux count as an arrest,
+// so the release phase is run too.
+json tiny_scene(const std::string& out, long checkpoint_every) {
+    json scene = {{"valve", {{"constriction", "30x"}}},
+                  {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                  {"protocol", {{"flow_time", "0.04 ms"}, {"max_time", "0.04 ms"}, {"arrest_window", "0.01 ms"},
+                                {"arrest_fraction", 0.95}, {"release_time", "0.02 ms"}, {"observe_every_steps", 20}}},
+                  {"output", {{"directory", out}}}};
+    if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;
+    return scene;
+}
+
+Result jam(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra) {
+    write_text(dir.file(name + ".json"), scene.dump());
+    return mrjam(dir, "jam " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --fidelity quick --quiet " + extra);
+}
+
+// The results that must not depend on an interruption: everything but the wall-clock numbers.
+json comparable(json report) {
+    report.erase("wall_time_s");
+    report.erase("performance");
+    report.erase("resumed_from");
+    report.erase("outputs");
+    return report;
+}
+
+// Steps of each stage (flow, field_on, release) in a finished report.
+std::vector<long> stage_steps(const json& report) {
+    std::vector<long> steps;
+    for (const auto& st : report["results"]["stages"]) steps.push_back(st["steps"].get<long>());
+    return steps;
+}
+
+// The int32 big-endian array NAME of a legacy VTK file (a FIELD array "NAME 1 N int").
+std::vector<std::int32_t> legacy_int_array(const std::string& file, const std::string& name) {
+    const std::string header = "\n" + name + " 1 ";
+    const auto at = file.find(header);
+    REQUIRE(at != std::string::npos);
+    const auto line_end = file.find('\n', at + 1);
+    const std::size_t n = std::stoul(file.substr(at + header.size()));
+    std::vector<std::int32_t> values(n);
+    REQUIRE(line_end + 1 + 4 * n <= file.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto* b = reinterpret_cast<const unsigned char*>(file.data() + line_end + 1 + 4 * i);
+        values[i] = static_cast<std::int32_t>((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3]);
+    }
+    return values;
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as the uninterrupted run") {
+    TempDir dir;
+    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "--seeds 2");
+    CAPTURE(full.err);
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    const std::vector<long> steps = stage_steps(a);
+    REQUIRE(steps.size() == 3);
+    // Without an arrest the release phase ends at its first observation and this test would not
+    // reach it; the scene is made so that the field's slowing counts as one.
+    REQUIRE(a["results"]["jammed"] == true);
+    const long total = steps[0] + steps[1] + steps[2];
+
+    // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
+    // no-field flow, with the field on, and in the release. The first seed's checkpoints are
+    // then overwritten by the second's, so the resume starts inside seed 2 and must still
+    // report seed 1's results and the jam probability over both.
+    struct Case { const char* phase; long every; };
+    for (const Case c : {Case{"flow", steps[0] * 3 / 4}, Case{"field_on", steps[0] + steps[1] / 2},
+                         Case{"release", steps[0] + steps[1] + steps[2] / 2}}) {
+        CAPTURE(c.phase);
+        if (2 * c.every <= total) {
+            MESSAGE("stage lengths leave no single checkpoint in this phase: skipped");
+            continue;
+        }
+        const std::string name = std::string("cut_") + c.phase;
+        const Result cut = jam(dir, name, tiny_scene(dir.file("out_" + name), c.every), "--seeds 2");
+        REQUIRE(cut.exit_code == 0);
+        const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+        REQUIRE(fs::exists(ck));
+        const Result resumed = mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+        CHECK(b["performance"]["steps_run"].get<long>() < total);  // it did continue, not restart
+        // Inputs, seeds, flux history, arrest and release, the flow scale, clusters, energies:
+        // all identical, bit for bit.
+        json ra = comparable(a), rb = comparable(b);
+        CHECK(rb["results"] == ra["results"]);
+        CHECK(rb["seeds"] == ra["seeds"]);
+        CHECK(rb["inputs_jam"] == ra["inputs_jam"]);
+    }
+    // Not a jam checkpoint: refused naming --resume.
+    write_text(dir.file("not.mrjam"), "nothing");
+    const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--resume") != std::string::npos);
+}
+
+TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
+    TempDir dir;
+    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    write_text(dir.file("cut.json"), tiny_scene(dir.file("out_cut"), 0).dump());
+    const std::string delay = std::to_string(std::max(0.05, 0.5 * a["wall_time_s"].get<double>()));
+    const Result cut = mrjam(dir, "jam " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
+                                      " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+    if (cut.exit_code == 0 || !fs::exists(dir.file("cut_report.json"))) {
+        MESSAGE("the signal missed the run (finished first, or came before it started): nothing to resume");
+        return;
+    }
+    REQUIRE(cut.exit_code == 130);
+    const json c = json::parse(slurp(dir.file("cut_report.json")));
+    CHECK(c["results"]["flux_history"]["partial"] == true);
+    CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
+    const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
+                                          quote(dir.file("resumed.json")) + " --quiet");
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    const json b = json::parse(slurp(dir.file("resumed.json")));
+    CHECK(b["results"]["flux_history"]["partial"] == false);
+    CHECK(comparable(b)["results"] == comparable(a)["results"]);
+}
+
+TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {
+    TempDir dir;
+    const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0), "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every '0.02 ms'");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(slurp(dir.file("snap_report.json")));
+    const double t_end = report["results"]["simulated_time_s"].get<double>();
+    int series = 0;
+    for (const auto& entry : fs::directory_iterator(dir.file("vtk")))
+        if (entry.path().filename().string().find("_step") != std::string::npos) ++series;
+    // One at the first observation and one per 0.02 ms after it; the last multiple of 0.02 ms
+    // may fall after the last observation (every 20 steps), so it may be missing.
+    const int due = static_cast<int>(std::floor(t_end / 0.02e-3)) + 1;
+    CHECK(series <= due);
+    CHECK(series >= due - 1);
+    CHECK(series >= 3);
+    CHECK(report["outputs"]["snapshots"].size() == static_cast<std::size_t>(series) + 2);
+    REQUIRE(report["results"]["jammed"] == true);
+    for (const char* tag : {"arrest", "end"}) {
+        CAPTURE(tag);
+        const std::string file = slurp(dir.file(std::string("vtk/seed1_") + tag + ".vtk"));
+        const auto cluster = legacy_int_array(file, "cluster");
+        const auto size = legacy_int_array(file, "cluster_size");
+        REQUIRE(cluster.size() == size.size());
+        REQUIRE(!cluster.empty());
+        // Every grain's cluster_size is the number of grains with its label, and label 0 is the
+        // largest cluster.
+        std::map<std::int32_t, std::int32_t> count;
+        for (auto c : cluster) ++count[c];
+        std::int32_t largest = 0;
+        for (auto [label, n] : count) largest = std::max(largest, n);
+        CHECK(count[0] == largest);
+        for (std::size_t i = 0; i < cluster.size(); ++i) REQUIRE(size[i] == count[cluster[i]]);
+    }
+    // The end snapshot's largest cluster is the one the report names.
+    const auto end_cluster = legacy_int_array(slurp(dir.file("vtk/seed1_end.vtk")), "cluster_size");
+    CHECK(*std::max_element(end_cluster.begin(), end_cluster.end()) == report["results"]["largest_cluster"].get<int>());
+    // Bad interval: refused, naming the option.
+    const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0), "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--snapshot-every") != std::string::npos);
+}
+
+}  // TEST_SUITE
