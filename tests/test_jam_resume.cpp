@@ -17,9 +17,12 @@ namespace {
 
 // A 0.65 mm stretch of valve with a short constriction in a 2-diameter slab: about 1500 grains, a
 // second of work per seed. `arrest_fraction` 0.95 makes the field's slowing of the flux count as
-// an arrest, so the release phase is run too.
+// an arrest, so the release phase is run too. The pressure-limited flow at a low supply pressure
+// (10 kPa) throttles the flow during the run (its scale moves between about 0.3 and 1), so its
+// controller's state must survive a resume as well.
 json tiny_scene(const std::string& out, long checkpoint_every) {
     json scene = {{"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
+                  {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
                   {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
                   {"protocol", {{"flow_time", "0.03 ms"}, {"max_time", "0.03 ms"}, {"arrest_window", "0.008 ms"},
                                 {"arrest_fraction", 0.95}, {"release_time", "0.015 ms"}, {"observe_every_steps", 20}}},
@@ -82,6 +85,10 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     // Without an arrest the release phase ends at its first observation and this test would not
     // reach it; the scene is made so that the field's slowing counts as one.
     REQUIRE(a["results"]["jammed"] == true);
+    // The flow was throttled at some point, so a lost flow scale would change the run.
+    double lowest = 1;
+    for (const auto& row : a["results"]["flow_scale_history"]) lowest = std::min(lowest, row[1].get<double>());
+    REQUIRE(lowest < 0.9);
     const long total = steps[0] + steps[1] + steps[2];
 
     // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
