@@ -25,7 +25,8 @@ double SlotOrifice::half_size(double z, double slot_half) const {
 }
 
 bool SlotOrifice::contains(const Vec3& p) const {
-    return p.x * p.x + p.y * p.y < bore_radius * bore_radius && std::abs(p.x) < half_x(p.z) && std::abs(p.y) < half_y(p.z);
+    return p.x * p.x + p.y * p.y < bore_radius * bore_radius && std::abs(p.x) < half_x(p.z) &&
+           std::abs(p.y) < half_y(p.z);
 }
 
 double SlotOrifice::disc_rectangle_area(double R, double X, double Y) {
@@ -54,7 +55,9 @@ double SlotOrifice::constriction_volume() const {
     // (the slot fits the bore), so there is exactly one positive root, below 1.
     const double qa = aw * aw + ah * ah, qb = 2.0 * (hw * aw + hh * ah), qc = hw * hw + hh * hh - R * R;
     const double s_star = (-qb + std::sqrt(qb * qb - 4.0 * qa * qc)) / (2.0 * qa);
-    auto inside = [&](double s) { return 4.0 * (hw * hh * s + 0.5 * (hw * ah + hh * aw) * s * s + aw * ah * s * s * s / 3.0); };
+    auto inside = [&](double s) {
+        return 4.0 * (hw * hh * s + 0.5 * (hw * ah + hh * aw) * s * s + aw * ah * s * s * s / 3.0);
+    };
     const double corners_in = inside(s_star);
     const double corners_out = std::numbers::pi * R * R * (1.0 - s_star) -
                                2.0 / aw * (cap_area_integral(R, R) - cap_area_integral(R, hw + aw * s_star)) -

@@ -17,11 +17,11 @@ namespace mrjam {
 
 struct SlotOrifice {
     double bore_radius = 0;
-    double half_width = 0;    // along x
-    double half_height = 0;   // along y
-    double taper_start_z = 0; // bore -> taper
-    double throat_start_z = 0;// taper -> straight slot
-    double exit_z = 0;        // straight slot -> step back to the bore
+    double half_width = 0;      // along x
+    double half_height = 0;     // along y
+    double taper_start_z = 0;   // bore -> taper
+    double throat_start_z = 0;  // taper -> straight slot
+    double exit_z = 0;          // straight slot -> step back to the bore
 
     static constexpr double unbounded = std::numeric_limits<double>::infinity();
     // Half sizes of the cutting rectangle at z (unbounded outside the constriction).

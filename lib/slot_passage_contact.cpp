@@ -14,8 +14,9 @@ struct Point2 {
 
 struct PolygonHit {
     bool inside = false;
-    double distance = 0;   // to the boundary
-    Point2 direction{};    // unit: outside, from the nearest boundary point to p; inside, the outward normal of the nearest edge
+    double distance = 0;  // to the boundary
+    Point2 direction{};   // unit: outside, from the nearest boundary point to p; inside, the outward normal of the
+                          // nearest edge
 };
 
 // A convex polygon with vertices in clockwise order in the (a, z) plane (a right, z up);
@@ -35,7 +36,10 @@ PolygonHit convex_polygon(const std::array<Point2, N>& v, Point2 p) {
         const Point2 outward{-ez / len, ea / len};
         const double height = -((p.a - a.a) * outward.a + (p.z - a.z) * outward.z);  // > 0 inside the edge's half-plane
         if (height < 0) inside = false;
-        if (height < best_in) { best_in = height; dir_in = outward; }
+        if (height < best_in) {
+            best_in = height;
+            dir_in = outward;
+        }
         const double t = std::clamp(((p.a - a.a) * ea + (p.z - a.z) * ez) / (len * len), 0.0, 1.0);
         const double qa = a.a + t * ea, qz = a.z + t * ez;
         const double d = std::hypot(p.a - qa, p.z - qz);
@@ -59,8 +63,14 @@ SlotContact slot_passage_contact(const SlotOrifice& s, const Vec3& p) {
     double nearest = std::numeric_limits<double>::infinity(), deepest = -1;
     Vec3 n_nearest{}, n_deepest{};
     auto piece = [&](bool inside, double distance, const Vec3& normal) {
-        if (inside && distance > deepest) { deepest = distance; n_deepest = normal; }
-        if (!inside && distance < nearest) { nearest = distance; n_nearest = normal; }
+        if (inside && distance > deepest) {
+            deepest = distance;
+            n_deepest = normal;
+        }
+        if (!inside && distance < nearest) {
+            nearest = distance;
+            n_nearest = normal;
+        }
     };
     piece(rho >= R, std::abs(R - rho), e_r * -1.0);  // the bore: its normal points to the axis either way
     // The plates, cut off at a = 2R: the cut edge is farther from any point of the bore than

@@ -7,6 +7,7 @@
 
 #include "fluid/slot_valve_flow.hpp"
 #include "geometry/valve.hpp"
+#include "jam/throat_span.hpp"
 #include "walls.hpp"
 
 using namespace mrjam;
@@ -193,6 +194,34 @@ TEST_CASE("slot valve flow: the source's profile in the bore and one flow rate t
     }
     // The same reference flow rate as a circular orifice of the slot's height (same bore profile).
     CHECK(flow.flow_rate() == doctest::Approx(std::numbers::pi * U * (R * R * R - hh * hh * hh) / (3 * (R - hh))).epsilon(1e-12).scale(0));
+}
+
+TEST_CASE("throat span: a cluster across the slot's gap spans it, one between its side faces does not") {
+    const double r = 20e-6;
+    auto grains = [&](std::initializer_list<Vec3> at) {
+        System s;
+        for (const Vec3& x : at) s.particles.add(x, r, 7800, 0);
+        return s;
+    };
+    auto one_cluster = [](std::size_t n) { return ContactClusters{std::vector<std::uint32_t>(n, 0), {n}}; };
+    const ValveGeometry v = slot_valve();
+    const Wall wall = passage_wall("valve", v, 0);
+    const double hw = 0.5 * v.slot_width, hh = v.throat_radius();
+    // Touching the upper (y = +hh) and the lower face of the straight slot, and a grain between.
+    const System across = grains({{0, hh - r, 0}, {0.1e-3, -(hh - r), 0}, {0, 0, 0}});
+    CHECK(cluster_spans_throat(across, one_cluster(3), v, wall));
+    // The lower grain in another cluster: the largest touches one side only.
+    CHECK_FALSE(cluster_spans_throat(across, ContactClusters{{0, 1, 0}, {2, 1}}, v, wall));
+    // Touching the two side faces (x = +-hw), one grain above the axis and one below: the
+    // circular rule (the sign of y) would call this an arch; across the slot it is not.
+    const System sides = grains({{hw - r, 0.1e-3, 0}, {-(hw - r), -0.1e-3, 0}});
+    CHECK_FALSE(cluster_spans_throat(sides, one_cluster(2), v, wall));
+    // The circular orifice: touching its throat above and below the axis.
+    const ValveGeometry circle;
+    const Wall round = passage_wall("valve", circle, 1e-3);
+    const double rt = circle.throat_radius();
+    CHECK(cluster_spans_throat(grains({{0, rt - r, 0}, {0, -(rt - r), 0}}), one_cluster(2), circle, round));
+    CHECK_FALSE(cluster_spans_throat(grains({{0, rt - r, 0}, {0, 0, 0}}), one_cluster(2), circle, round));
 }
 
 }  // TEST_SUITE

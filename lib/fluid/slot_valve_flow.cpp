@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -28,7 +28,10 @@ double gauss_legendre(F f, double a, double b) {
 }  // namespace
 
 SlotValveFlow::SlotValveFlow(const SlotOrifice& slot, double bore_speed)
-    : instance_(++instances), slot_(slot), speed_(bore_speed), ramp_fraction_(1.0 - slot.half_height / slot.bore_radius) {
+    : instance_(++instances),
+      slot_(slot),
+      speed_(bore_speed),
+      ramp_fraction_(1.0 - slot.half_height / slot.bore_radius) {
     flow_rate_ = speed_ * shape_integral(slot_.taper_start_z - 1.0);  // any z in the bore
 }
 

@@ -15,7 +15,8 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
     }
     const nlohmann::json& h = out.header.history;
     if (!h.is_object() || h.value("mode", "") != "jam" || !h.contains("state") || !h["state"].contains("campaign"))
-        throw SceneError("--resume", path + " is not a jam checkpoint (it was written by another mode); resume it with that mode");
+        throw SceneError("--resume",
+                         path + " is not a jam checkpoint (it was written by another mode); resume it with that mode");
     out.stage_log = h.at("stage_log");
     out.state = h["state"].at("protocol");
     out.campaign = h["state"]["campaign"];

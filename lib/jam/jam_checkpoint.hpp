@@ -3,9 +3,8 @@
 // checkpoint_state), the protocol's state (phase, no-field reference flux, arrest window, flux
 // and flow-scale histories) and the command's record of the seeds (which seed was running, the
 // outcomes of those before it), so `mrjam jam --resume` ends as the uninterrupted run.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "io/checkpoint.hpp"
 

@@ -10,6 +10,7 @@
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/jam_snapshots.hpp"
+#include "jam/throat_span.hpp"
 #include "jam/throat_flux.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
@@ -17,32 +18,6 @@
 namespace mrjam {
 
 namespace {
-
-// Whether the largest cluster touches the constriction's wall on both sides of the gap (y > 0
-// and y < 0, the field's direction): an arch spanning the throat.
-bool spans_throat(const System& s, const ContactClusters& c, const ValveGeometry& v, const Wall& wall) {
-    if (c.size.empty() || c.size[0] < 2) return false;
-    bool upper = false, lower = false;
-    const auto& p = s.particles;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (c.label[i] != 0) continue;
-        const Vec3& x = p.position[i];
-        if (x.z < v.taper_start_z() - p.radius[i] || x.z > v.throat_end_z() + p.radius[i]) continue;
-        double overlap;
-        Vec3 n;
-        if (!wall.touch(x, p.radius[i] * 1.05, overlap, n)) continue;  // touching, with 5 % slack
-        if (v.is_slot()) {
-            // Across the slot's gap: its faces along the field (y), not the narrow side faces.
-            if (std::abs(n.y) <= std::abs(n.x)) continue;
-            if (n.y < 0) upper = true;
-            if (n.y > 0) lower = true;
-            continue;
-        }
-        if (x.y > 0) upper = true;
-        if (x.y < 0) lower = true;
-    }
-    return upper && lower;
-}
 
 // The bore's cross-section inside the slab |x| < h: the chord region of the circle.
 double slab_section(double r, double h) {
@@ -223,7 +198,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                                          "told from a blocked start: lengthen protocol/flow_time or check the flow");
     r["largest_cluster"] = clusters.size.empty() ? 0 : clusters.size[0];
     r["clusters"] = clusters.size.size();
-    r["largest_cluster_spans_throat"] = valve_wall ? spans_throat(s, clusters, js.valve, *valve_wall) : false;
+    r["largest_cluster_spans_throat"] = valve_wall ? cluster_spans_throat(s, clusters, js.valve, *valve_wall) : false;
     r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history},
                          {"partial", outcome.exit_status != 0}};
     r["field_switched_on_s"] = p.flow_time;

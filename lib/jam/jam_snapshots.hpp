@@ -3,9 +3,8 @@
 // arrest and one at the end, each with the grains' contact-cluster id (`cluster`, 0 = the
 // largest) and its size (`cluster_size`) as point arrays, so ParaView colours the arch the way
 // the source's Fig. 3.11 does.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "system.hpp"
 
