@@ -52,15 +52,18 @@ void add_jam_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--snapshots", args->snapshots, "Write VTK snapshots (grains with their contact cluster) into this directory");
     cmd->add_option("--snapshot-every", args->snapshot_every, "Simulated time between snapshots, e.g. \"0.1 ms\" (default: 20 frames)");
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    cmd->add_option("--fidelity", args->fidelity, "quick, standard or paper (scene settings win)")
-        ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
-    cmd->add_option("--seeds", args->seeds, "Independent packings (seed, seed+1, ...): jam probability")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "quick, standard or paper (scene settings win)")
+                                ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
+    CLI::Option* seeds_option = cmd->add_option("--seeds", args->seeds, "Independent packings (seed, seed+1, ...): jam probability")
+                                    ->check(CLI::Range(1, 1000))->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->callback([args, &exit_status] {
+    cmd->callback([args, fidelity, seeds_option, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("jam", "give a SCENE file, or --resume CHECKPOINT (not both)");
+        // A resumed run finishes the protocol it started: another tier or seed count would not.
+        if (!args->resume.empty() && (fidelity->count() > 0 || seeds_option->count() > 0))
+            throw SceneError("--resume", "the tier and the number of seeds come from the checkpoint; drop --fidelity and --seeds");
         // The record of the seeds: written into every checkpoint, so a resumed command knows the
         // scene, which seed was running and what the seeds before it gave.
         nlohmann::json campaign;

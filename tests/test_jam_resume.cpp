@@ -131,8 +131,12 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
         inputs_b.erase("output");
         CHECK(inputs_b == inputs_a);
         if (c.seeds == 2) CHECK(b["seeds"] == a["seeds"]);
-        // `mrjam run` would continue the engine without the protocol: it points to jam instead.
+        // `mrjam run` would continue the engine without the protocol: it points to jam instead;
+        // and a resume cannot change the tier or the seeds it was started with.
         if (c.phase == "flow") {
+            const Result reseeded = mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
+            CHECK(reseeded.exit_code == 2);
+            CHECK(reseeded.err.find("--seeds") != std::string::npos);
             const Result run = mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
             CHECK(run.exit_code == 2);
             CHECK(run.err.find("mrjam jam --resume") != std::string::npos);
