@@ -8,9 +8,11 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
+#include "scene/units.hpp"
 
 namespace mrjam::cli {
 
@@ -22,64 +24,128 @@ struct JamArgs {
     int seeds = 1;
     int threads = 1;
     bool quiet = false;
+    std::string resume;
+    std::string snapshots;
+    std::string snapshot_every;
 };
+
+// Snapshot interval: a time with units ("0.1 ms") or plain seconds; by default 20 frames over
+// the no-field and field periods.
+double snapshot_interval(const std::string& text, const JamScene& scene) {
+    if (text.empty()) return (scene.protocol.flow_time + scene.protocol.max_time) / 20.0;
+    double t = 0;
+    try {
+        t = units::parse_as(text, units::time);
+    } catch (const std::exception& e) {
+        throw SceneError("--snapshot-every", std::string(e.what()) + "; give a time such as \"0.1 ms\"");
+    }
+    if (!(t > 0)) throw SceneError("--snapshot-every", "must be a positive time, such as \"0.1 ms\"");
+    return t;
+}
 }  // namespace
 
 void add_jam_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<JamArgs>();
     CLI::App* cmd = app.add_subcommand("jam", "Jam predictor: grains in the valve's throat under a field (DEM)");
-    cmd->add_option("scene", args->scene, "Jam scene JSON (see docs/jam.md)")->required();
+    cmd->add_option("scene", args->scene, "Jam scene JSON (see docs/jam.md)");
+    cmd->add_option("--resume", args->resume, "Continue an interrupted run (and its remaining seeds) from its checkpoint");
+    cmd->add_option("--snapshots", args->snapshots, "Write VTK snapshots (grains with their contact cluster) into this directory");
+    cmd->add_option("--snapshot-every", args->snapshot_every, "Simulated time between snapshots, e.g. \"0.1 ms\" (default: 20 frames)");
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    cmd->add_option("--fidelity", args->fidelity, "quick, standard or paper (scene settings win)")
-        ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
-    cmd->add_option("--seeds", args->seeds, "Independent packings (seed, seed+1, ...): jam probability")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "quick, standard or paper (scene settings win)")
+                                ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
+    CLI::Option* seeds_option = cmd->add_option("--seeds", args->seeds, "Independent packings (seed, seed+1, ...): jam probability")
+                                    ->check(CLI::Range(1, 1000))->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->callback([args, &exit_status] {
-        const std::string base = std::filesystem::path(args->scene).parent_path().string();
-        const JamScene scene = read_jam_scene(read_json_file(args->scene), args->fidelity, base);
+    cmd->callback([args, fidelity, seeds_option, &exit_status] {
+        if (args->scene.empty() == args->resume.empty())
+            throw CLI::ValidationError("jam", "give a SCENE file, or --resume CHECKPOINT (not both)");
+        // A resumed run finishes the protocol it started: another tier or seed count would not.
+        if (!args->resume.empty() && (fidelity->count() > 0 || seeds_option->count() > 0))
+            throw SceneError("--resume", "the tier and the number of seeds come from the checkpoint; drop --fidelity and --seeds");
+        // The record of the seeds: written into every checkpoint, so a resumed command knows the
+        // scene, which seed was running and what the seeds before it gave.
+        nlohmann::json campaign;
+        int first_index = 0;
+        std::string resume_checkpoint;
+        if (!args->resume.empty()) {
+            if (!args->snapshots.empty() || !args->snapshot_every.empty())
+                throw SceneError("--snapshots", "a resumed run keeps the snapshot settings of the interrupted one; drop "
+                                                "--snapshots/--snapshot-every");
+            const JamCheckpoint ck = read_jam_checkpoint(args->resume);
+            campaign = ck.campaign;
+            first_index = campaign.at("seed_index").get<int>();
+            resume_checkpoint = args->resume;
+        } else {
+            const std::string base = std::filesystem::absolute(args->scene).parent_path().string();
+            campaign = {{"scene", read_json_file(args->scene)}, {"tier", args->fidelity}, {"base_directory", base},
+                        {"seeds", args->seeds}, {"seed_index", 0}, {"runs", nlohmann::json::array()}, {"first_report", nullptr},
+                        {"snapshots", args->snapshots}};
+        }
+        const JamScene scene =
+            read_jam_scene(campaign["scene"], campaign["tier"].get<std::string>(), campaign["base_directory"].get<std::string>());
+        const int seeds = campaign["seeds"].get<int>();
+        if (args->resume.empty())
+            campaign["snapshot_every_s"] = args->snapshots.empty() ? 0.0 : snapshot_interval(args->snapshot_every, scene);
         const long long first_seed = scene.engine_scene["seed"].get<long long>();
         const std::filesystem::path report_path(args->report);
-        nlohmann::json runs = nlohmann::json::array();
-        nlohmann::json report;
-        int jams = 0;
-        std::vector<double> arrest_times;
-        for (int k = 0; k < args->seeds; ++k) {
+        nlohmann::json report = campaign["first_report"];
+        for (int k = first_index; k < seeds; ++k) {
             JamRunOptions options;
             options.threads = args->threads;
             options.progress = !args->quiet;
             if (k == 0)
                 options.picture_path = (report_path.parent_path() / (report_path.stem().string() + "_throat.png")).string();
-            if (!args->quiet) std::cerr << "[jam] seed " << first_seed + k << " (" << k + 1 << "/" << args->seeds << ")\n";
+            options.snapshot_directory = campaign["snapshots"].get<std::string>();
+            options.snapshot_every = campaign["snapshot_every_s"].get<double>();
+            campaign["seed_index"] = k;
+            options.campaign = campaign;
+            options.resume_checkpoint = k == first_index ? resume_checkpoint : "";
+            if (!args->quiet)
+                std::cerr << "[jam] " << (options.resume_checkpoint.empty() ? "seed " : "resuming seed ") << first_seed + k << " ("
+                          << k + 1 << "/" << seeds << ")\n";
             const JamOutcome outcome = run_jam(scene, first_seed + k, options);
-            if (k == 0) report = outcome.report;
+            nlohmann::json& runs = campaign["runs"];
             runs.push_back({{"seed", first_seed + k}, {"outcome", outcome.report["results"]["outcome"]},
                             {"time_to_arrest_s", outcome.report["results"]["time_to_arrest_s"]},
                             {"status", outcome.report["status"]}});
-            if (outcome.jammed) { ++jams; arrest_times.push_back(outcome.time_to_arrest); }
+            if (k == 0) report = outcome.report;
             if (outcome.exit_status != 0) {
-                report = outcome.report;
-                report["seeds"] = runs;
-                report["inputs_jam"] = scene.resolved;
-                write_json_file(args->report, report);
+                nlohmann::json partial = outcome.report;
+                partial["seeds"] = runs;
+                partial["inputs_jam"] = scene.resolved;
+                if (outcome.exit_status == 130)
+                    partial["resume_note"] = "--resume continues seed " + std::to_string(first_seed + k) + " where it stopped, then runs the " +
+                                             std::to_string(seeds - k - 1) + " remaining seed(s)";
+                write_json_file(args->report, partial);
                 exit_status = outcome.exit_status;
                 std::cerr << "[jam] stopped (" << outcome.report["status"].get<std::string>() << "); partial report "
                           << args->report << "\n";
                 return;
             }
+            if (k == 0) campaign["first_report"] = report;
         }
+        const nlohmann::json& runs = campaign["runs"];
+        int jams = 0;
+        std::vector<double> arrest_times;
+        for (const auto& run : runs)
+            if (run["time_to_arrest_s"].is_number()) {  // a number exactly when the seed jammed
+                ++jams;
+                arrest_times.push_back(run["time_to_arrest_s"].get<double>());
+            }
         double mean = 0, spread = 0;
         for (double t : arrest_times) mean += t / arrest_times.size();
         for (double t : arrest_times) spread += (t - mean) * (t - mean) / std::max<std::size_t>(1, arrest_times.size() - 1);
         report["inputs_jam"] = scene.resolved;
         report["seeds"] = runs;
-        report["results"]["jam_probability"] = static_cast<double>(jams) / args->seeds;
+        report["results"]["jam_probability"] = static_cast<double>(jams) / seeds;
         report["results"]["time_to_arrest_mean_s"] = arrest_times.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean);
         report["results"]["time_to_arrest_std_s"] =
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));
         report["fidelity"]["jam_tier"] = scene.tier;
         report["fidelity"]["slab_half_thickness_m"] = scene.slab_half_thickness;
+        if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
         if (!args->quiet)
             std::cerr << "[jam] " << report["results"]["outcome"].get<std::string>() << " (jam probability "

@@ -12,6 +12,7 @@
 #include "run/runner.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam::cli {
 
@@ -47,6 +48,12 @@ void add_run_command(CLI::App& app, int& exit_status) {
         nlohmann::json resumed_stage_log;
         if (!args->resume.empty()) {
             const CheckpointHeader header = read_checkpoint_header(args->resume);
+            // A mode's checkpoint carries protocol state `mrjam run` knows nothing of.
+            if (header.history.is_object()) {
+                const std::string mode = header.history.value("mode", header.history.contains("shear_input") ? "shear" : "another mode");
+                throw SceneError("--resume", args->resume + " was written by `mrjam " + mode + "`; resume it with `mrjam " + mode +
+                                                 " --resume " + args->resume + "`");
+            }
             build.insert_grains = false;
             scene = build_scene(header.resolved_scene, build);
             restore_state(args->resume, scene.system);

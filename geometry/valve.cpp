@@ -1,5 +1,6 @@
 #include "geometry/valve.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -15,8 +16,24 @@ double ValveGeometry::passage_radius(double z) const {
     return bore_radius() + t * (throat_radius() - bore_radius());
 }
 
+SlotOrifice ValveGeometry::slot() const {
+    return SlotOrifice{bore_radius(), 0.5 * slot_width, throat_radius(), taper_start_z(), -0.5 * throat_length, throat_end_z()};
+}
+
+double ValveGeometry::passage_half_height(double z) const {
+    if (!is_slot()) return passage_radius(z);
+    return std::min(slot().half_y(z), bore_radius());
+}
+
+double ValveGeometry::section_area(double z) const {
+    if (is_slot()) return slot().section_area(z);
+    const double r = passage_radius(z);
+    return std::numbers::pi * r * r;
+}
+
 bool ValveGeometry::in_fluid(const Vec3& p) const {
     if (p.z < -upstream_length || p.z > downstream_length) return false;
+    if (is_slot()) return slot().contains(p);
     const double r = passage_radius(p.z);
     return p.x * p.x + p.y * p.y < r * r;
 }
@@ -25,6 +42,7 @@ double ValveGeometry::fluid_volume() const {
     const double pi = std::numbers::pi;
     const double rb = bore_radius(), rt = throat_radius();
     const double bore = pi * rb * rb * (upstream_length + downstream_length - taper_length - throat_length);
+    if (is_slot()) return bore + slot().constriction_volume();
     const double cone = pi * taper_length * (rb * rb + rb * rt + rt * rt) / 3.0;
     const double throat = pi * rt * rt * throat_length;
     return bore + cone + throat;
@@ -41,6 +59,16 @@ std::vector<std::string> ValveGeometry::problems() const {
     if (!(throat_length >= 0)) say("throat_length", "must not be negative");
     if (taper_length == 0 && throat_length == 0)
         say("throat_length", "taper_length and throat_length are both zero: give the constriction some length");
+    if (is_slot()) {
+        if (!(slot_width > 0))
+            say("slot_width", "a slot orifice needs its width across the field (x), e.g. \"0.6 mm\"");
+        else if (std::hypot(slot_width, constriction_diameter) >= tube_inner_diameter)
+            say("slot_width", "the slot " + mm(slot_width) + " x " + mm(constriction_diameter) + " does not fit inside the bore " +
+                                  mm(tube_inner_diameter) + " (its diagonal " + mm(std::hypot(slot_width, constriction_diameter)) +
+                                  " must be shorter than the bore); narrow the slot or its height (constriction_diameter)");
+    } else if (slot_width != 0) {
+        say("slot_width", "is for a slot orifice; set \"orifice\": \"slot\" or drop slot_width");
+    }
     if (constriction_diameter >= tube_inner_diameter)
         say("constriction_diameter", mm(constriction_diameter) + " is not narrower than the tube bore " +
                                          mm(tube_inner_diameter) + "; make it smaller than the bore");

@@ -5,11 +5,13 @@
 #include <limits>
 
 #include "geometry/valve.hpp"
+#include "slot_passage_contact.hpp"
 
 namespace mrjam {
 
 bool Wall::touch(const Vec3& x, double r, double& overlap, Vec3& n) const {
     if (kind == Kind::passage) return touch_passage(x, r, overlap, n);
+    if (kind == Kind::slot_passage) return touch_slot_passage(x, r, overlap, n);
     if (kind == Kind::plane) {
         const double dist = dot(x - point, normal);
         overlap = r - dist;
@@ -76,12 +78,25 @@ bool Wall::touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) cons
     return true;
 }
 
+bool Wall::touch_slot_passage(const Vec3& x, double r, double& overlap, Vec3& n) const {
+    const SlotContact c = slot_passage_contact(slot, x - point);
+    overlap = c.centre_in_fluid ? r - c.distance : r + c.distance;
+    if (overlap <= 0) return false;
+    n = c.normal;
+    return true;
+}
+
 Wall passage_wall(const std::string& name, const ValveGeometry& v, double margin) {
     Wall w;
     w.name = name;
     w.kind = Wall::Kind::passage;
     w.point = {0, 0, 0};
     w.axis = {0, 0, 1};
+    if (v.is_slot()) {
+        w.kind = Wall::Kind::slot_passage;
+        w.slot = v.slot();
+        return w;
+    }
     const double rb = v.bore_radius(), rt = v.throat_radius();
     w.profile = {{rb, -v.upstream_length - margin},
                  {rb, v.taper_start_z()},

@@ -1,6 +1,7 @@
 #pragma once
-// Rigid walls: infinite planes (optionally moving), cylinders (grains inside or outside) and
-// passages (a surface of revolution: a valve bore with its constriction, grains inside).
+// Rigid walls: infinite planes (optionally moving), cylinders (grains inside or outside),
+// passages (a surface of revolution: a valve bore with its constriction, grains inside) and
+// slot passages (a valve bore with a rectangular slot orifice, geometry/slot_orifice.hpp).
 // A wall contact is a Hertz-Mindlin contact with a sphere of infinite radius and mass; its
 // tangential and rolling history is kept per grain.
 #include <array>
@@ -9,11 +10,12 @@
 
 #include "contact/hertz_mindlin.hpp"
 #include "core/vec3.hpp"
+#include "geometry/slot_orifice.hpp"
 
 namespace mrjam {
 
 struct Wall {
-    enum class Kind { plane, cylinder, passage };
+    enum class Kind { plane, cylinder, passage, slot_passage };
     std::string name;
     Kind kind = Kind::plane;
     Vec3 point{};            // plane: a point on it; cylinder: a point on the axis
@@ -24,6 +26,7 @@ struct Wall {
     // passage: the wall's generatrix in the (radius, axial position) half-plane as a polyline
     // with non-decreasing axial positions, about the axis through `point` along `axis`.
     std::vector<std::array<double, 2>> profile;
+    SlotOrifice slot;        // slot_passage: bore and slot in the valve's frame (axis z through the origin)
     Vec3 velocity{};         // rigid translation (a moving plane; tangential part drives friction)
     std::uint16_t material = 0;
     std::vector<ContactHistory> history;  // per grain
@@ -38,10 +41,12 @@ struct Wall {
 
 private:
     bool touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) const;
+    bool touch_slot_passage(const Vec3& x, double r, double& overlap, Vec3& n) const;
 };
 
 // The valve body's bore and constriction as a passage wall (geometry/valve.hpp's frame: axis z
-// through the origin); the ends are extended by `margin` so periodic images see no end.
+// through the origin); the ends are extended by `margin` so periodic images see no end. A slot
+// orifice gives a slot_passage (its bore is unbounded along z, so it needs no margin).
 struct ValveGeometry;
 Wall passage_wall(const std::string& name, const ValveGeometry& valve, double margin);
 

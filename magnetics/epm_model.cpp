@@ -33,6 +33,11 @@ std::vector<std::string> EpmModel::problems() const {
     std::vector<std::string> out;
     for (const auto& p : valve.problems()) out.push_back("/valve/" + p);
     auto say = [&out](const std::string& path, const std::string& what) { out.push_back(path + ": " + what); };
+    // The field model's fluid volume and the circuit estimate are built from a circular
+    // constriction; a slot would be modelled as a circle without a word, so it is refused.
+    if (valve.is_slot())
+        say("/valve/orifice", "magnetics models circular orifices only; use \"circular\" here (a slot valve can be run by "
+                              "`mrjam jam` in a uniform field or a field map solved for the circular valve)");
     auto mm = [](double v) { std::ostringstream s; s << v * 1e3 << " mm"; return s.str(); };
     const auto& m = magnets;
     if (!(m.width > 0)) say("/magnets/width", "must be positive");

@@ -52,6 +52,7 @@ public:
     // Set between steps only (the force pass reads it).
     void set_drag_factors(double z_lo, double dz, std::vector<double> factors);
     double drag_factor(const Vec3& x) const override;
+    const std::vector<double>& drag_factors() const { return drag_factors_; }
 
 private:
     ValveGeometry valve_;

@@ -101,7 +101,7 @@ void legacy_field_vec3s(std::string& out, const char* name, const std::vector<Ve
     legacy_vec3s(out, v);
 }
 
-void write_vtk_legacy(Output& file, const Particles& p, long step, double time) {
+void write_vtk_legacy(Output& file, const Particles& p, long step, double time, const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     if (n > static_cast<std::size_t>(INT32_MAX / 2))
         throw std::runtime_error("mrjam: too many particles for a legacy VTK file; use vtp");
@@ -150,7 +150,9 @@ void write_vtk_legacy(Output& file, const Particles& p, long step, double time) 
     out += "VECTORS velocity double\n";
     legacy_vec3s(out, p.velocity);
     file.flush(out);
-    out += "FIELD FieldData 5\nid 1 ";
+    out += "FIELD FieldData ";
+    put_text(out, 5 + extra.size());
+    out += "\nid 1 ";
     put_text(out, n);
     out += " vtktypeuint64\n";
     for (std::uint64_t v : p.id) put(out, v, std::endian::big);
@@ -166,6 +168,15 @@ void write_vtk_legacy(Output& file, const Particles& p, long step, double time) 
     file.flush(out);
     legacy_field_vec3s(out, "dipole_moment", p.dipole_moment);
     file.flush(out);
+    for (const IntPointArray& a : extra) {
+        out += a.name;
+        out += " 1 ";
+        put_text(out, n);
+        out += " int\n";
+        for (std::int32_t v : a.values) put(out, v, std::endian::big);
+        out += '\n';
+        file.flush(out);
+    }
 }
 
 // ---- VTK XML -----------------------------------------------------------------------------
@@ -249,7 +260,7 @@ void xml_vectors(std::string& out, const char* name, const std::vector<Vec3>& v)
     });
 }
 
-void write_vtk_xml(Output& file, const Particles& p, long step, double time) {
+void write_vtk_xml(Output& file, const Particles& p, long step, double time, const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     std::string out;
     out.reserve(n * 34 + 2048);
@@ -291,6 +302,12 @@ void write_vtk_xml(Output& file, const Particles& p, long step, double time) {
     file.flush(out);
     xml_vectors(out, "dipole_moment", p.dipole_moment);
     file.flush(out);
+    for (const IntPointArray& a : extra) {
+        xml_array(out, "Int32", a.name.c_str(), 1, n * sizeof(std::int32_t), [&](Base64& enc) {
+            for (std::int32_t v : a.values) enc.value(v);
+        });
+        file.flush(out);
+    }
     out += "      </PointData>\n";
 
     out += "      <Points>\n";
@@ -323,7 +340,7 @@ void put_vec(std::string& out, const Vec3& v) {
     put_text(out, v.z);
 }
 
-void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long step) {
+void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long step, const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     std::string out;
     out.reserve(std::min<std::size_t>(n * 400, flush_threshold) + 1024);
@@ -340,7 +357,12 @@ void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long s
         put_text(out, d.hi[k]);
         out += '\n';
     }
-    out += "ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz fx fy fz mux muy muz\n";
+    out += "ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz fx fy fz mux muy muz";
+    for (const IntPointArray& a : extra) {
+        out += ' ';
+        out += a.name;
+    }
+    out += '\n';
     for (std::size_t i = 0; i < n; ++i) {
         put_text(out, p.id[i]);
         out += ' ';
@@ -352,6 +374,10 @@ void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long s
         put_vec(out, p.angular_velocity[i]);
         put_vec(out, p.force[i]);
         put_vec(out, p.dipole_moment[i]);
+        for (const IntPointArray& a : extra) {
+            out += ' ';
+            put_text(out, a.values[i]);
+        }
         out += '\n';
         if (out.size() >= flush_threshold) file.flush(out);
     }
@@ -378,12 +404,20 @@ std::string snapshot_extension(SnapshotFormat format) {
 }
 
 void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles,
-                    const Domain& domain, long step, double time) {
+                    const Domain& domain, long step, double time, const std::vector<IntPointArray>& extra) {
+    // Checked before the file is opened, so a bad call leaves no half-written snapshot behind.
+    for (const IntPointArray& a : extra) {
+        if (a.values.size() != particles.size())
+            throw std::invalid_argument("snapshot array '" + a.name + "' has " + std::to_string(a.values.size()) +
+                                        " values for " + std::to_string(particles.size()) + " particles");
+        if (a.name.empty() || a.name.find_first_of(" \t\n\"<>&") != std::string::npos)
+            throw std::invalid_argument("snapshot array name '" + a.name + "' must be one token without markup");
+    }
     Output file(path);
     switch (format) {
-        case SnapshotFormat::vtk_legacy: write_vtk_legacy(file, particles, step, time); break;
-        case SnapshotFormat::vtk_xml: write_vtk_xml(file, particles, step, time); break;
-        case SnapshotFormat::lammps_dump: write_lammps_dump(file, particles, domain, step); break;
+        case SnapshotFormat::vtk_legacy: write_vtk_legacy(file, particles, step, time, extra); break;
+        case SnapshotFormat::vtk_xml: write_vtk_xml(file, particles, step, time, extra); break;
+        case SnapshotFormat::lammps_dump: write_lammps_dump(file, particles, domain, step, extra); break;
     }
     file.close();
 }

@@ -18,9 +18,15 @@
 //
 // The dump's columns are
 //   id type radius x y z vx vy vz omegax omegay omegaz fx fy fz mux muy muz
+// followed by one column per extra integer array (below).
+//
+// A mode may add integer point arrays of its own (the jam predictor's contact-cluster id, so
+// ParaView can colour grains by cluster): VTK legacy "int" field arrays, VTK XML Int32 arrays.
 // with type = material + 1 (LAMMPS types start at 1). The dump carries the step, not the
 // time. Numbers are written in the shortest form that reads back to the identical double.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/domain.hpp"
 #include "particles.hpp"
@@ -36,9 +42,16 @@ SnapshotFormat snapshot_format_from_name(const std::string& name);
 // The file extension including the dot: ".vtk", ".vtp", ".dump".
 std::string snapshot_extension(SnapshotFormat format);
 
+// An extra per-particle integer array; `values` has one entry per particle.
+struct IntPointArray {
+    std::string name;  // no spaces (a legacy VTK array name is one token)
+    std::vector<std::int32_t> values;
+};
+
 // Writes one snapshot of every particle to path (created or truncated). Throws
-// std::runtime_error naming the path when the file cannot be opened or written.
+// std::runtime_error naming the path when the file cannot be opened or written, and
+// std::invalid_argument when an extra array's length or name is wrong.
 void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles,
-                    const Domain& domain, long step, double time);
+                    const Domain& domain, long step, double time, const std::vector<IntPointArray>& extra = {});
 
 }  // namespace mrjam

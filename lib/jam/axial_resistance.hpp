@@ -44,6 +44,8 @@ public:
     // Recomputes the cells from the grains; when `drive` sets the flow's drag factors and scale,
     // otherwise (the prescribed flow) only measures, with Stokes drag (factors 1, scale 1).
     AxialResistanceState update(const System& s, ValveFlow& flow, bool drive) const;
+    // Sets the flow's cell factors (as update() does; for a resumed run).
+    void apply(ValveFlow& flow, std::vector<double> factors) const { flow.set_drag_factors(z_lo_, dz_, std::move(factors)); }
     // Kozeny-Carman's per-grain drag relative to the feed fraction (>= 1).
     double drag_factor(double fraction) const;
     std::size_t cells() const { return volume_.size(); }

@@ -18,7 +18,7 @@ void write_throat_picture(const std::filesystem::path& path, const System& s, co
     // The wall: everything outside the passage, in dark grey.
     for (int px = 0; px < width; ++px) {
         const double z = z0 + (px + 0.5) / scale;
-        const double R = v.passage_radius(z);
+        const double R = v.passage_half_height(z);  // the wall in the cut plane x = 0
         for (int py = 0; py < height; ++py) {
             const double y = rb - (py + 0.5) / scale;
             if (std::abs(y) >= R) image.set(px, py, {60, 60, 60});

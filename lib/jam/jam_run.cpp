@@ -8,35 +8,15 @@
 #include "integrator.hpp"
 #include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
+#include "jam/jam_snapshots.hpp"
+#include "jam/throat_span.hpp"
 #include "jam/throat_flux.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
 
 namespace mrjam {
-
-namespace {
-
-// Whether the largest cluster touches the constriction's wall on both sides of the gap (y > 0
-// and y < 0, the field's direction): an arch spanning the throat.
-bool spans_throat(const System& s, const ContactClusters& c, const ValveGeometry& v, const Wall& wall) {
-    if (c.size.empty() || c.size[0] < 2) return false;
-    bool upper = false, lower = false;
-    const auto& p = s.particles;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (c.label[i] != 0) continue;
-        const Vec3& x = p.position[i];
-        if (x.z < v.taper_start_z() - p.radius[i] || x.z > v.throat_end_z() + p.radius[i]) continue;
-        double overlap;
-        Vec3 n;
-        if (!wall.touch(x, p.radius[i] * 1.05, overlap, n)) continue;  // touching, with 5 % slack
-        if (x.y > 0) upper = true;
-        if (x.y < 0) lower = true;
-    }
-    return upper && lower;
-}
-
-}  // namespace
 
 JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& options) {
     nlohmann::json engine = js.engine_scene;
@@ -44,8 +24,18 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     BuildOptions build;
     build.threads = options.threads;
     build.fidelity = js.tier;
+    const bool resuming = !options.resume_checkpoint.empty();
+    JamCheckpoint checkpoint;
+    if (resuming) {
+        // As `mrjam run --resume`: the grains, lists and step come from the checkpoint.
+        checkpoint = read_jam_checkpoint(options.resume_checkpoint);
+        build.insert_grains = false;
+        engine = checkpoint.header.resolved_scene;
+    }
     Scene scene = build_scene(engine, build);
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);
     choose_timestep(scene);
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
     const JamProtocol& p = js.protocol;
 
@@ -63,10 +53,10 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     run.observe_every = p.observe_every;
     const Wall* valve_wall = nullptr;
     for (const auto& w : s.walls)
-        if (w.kind == Wall::Kind::passage) valve_wall = &w;
+        if (w.kind == Wall::Kind::passage || w.kind == Wall::Kind::slot_passage) valve_wall = &w;
     // The carrier flow's resistance cells (lib/jam/axial_resistance.hpp): with the pressure
     // option they set the flow; with the prescribed flow they only measure what it would push
-    // an arrested bed with.
+    // an arrested bed with. (A slot's flow has no cells: null valve_flow.)
     auto valve_flow = std::dynamic_pointer_cast<ValveFlow>(s.flow);
     const AxialResistance resistance(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
                                      js.valve.downstream_length, js.flow.cell_length, js.feed_fraction,
@@ -125,14 +115,102 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         }
         return false;
     };
-    const RunOutcome outcome = run_protocol(scene, run, {}, observer);
+    struct ClusterView { long largest = 0, count = 0; bool spans = false, valid = false; };
+    ClusterView arrest_view;
+    auto look_at_clusters = [&](const System& sys) {
+        const ContactClusters clusters = contact_clusters(sys);
+        ClusterView v;
+        v.valid = true;
+        v.largest = clusters.size.empty() ? 0 : static_cast<long>(clusters.size[0]);
+        v.count = static_cast<long>(clusters.size.size());
+        v.spans = valve_wall ? cluster_spans_throat(sys, clusters, js.valve, *valve_wall) : false;
+        if (!options.picture_path.empty() && sys.particles.size() > 0)
+            write_throat_picture(options.picture_path, sys, clusters, js.valve);
+        return v;
+    };
+    // ---- Snapshots and checkpoint/resume (kept apart from the flow controller above) ----
+    JamSnapshots snapshots;
+    if (!options.snapshot_directory.empty()) snapshots = JamSnapshots(options.snapshot_directory, options.snapshot_every, seed);
+    // Everything the protocol carries from one observation to the next that the engine's
+    // checkpoint does not: restored below, it makes the resumed run take the same decisions.
+    auto protocol_state = [&] {
+        const double off = field->switch_off_time();
+        nlohmann::json fh = nlohmann::json::array();
+        for (const auto& f : flow_history) fh.push_back({f.time, f.scale, f.stretch_pressure, f.max_fraction});
+        return nlohmann::json{
+            {"seed", seed}, {"flux", flux.save()}, {"base_rate", base_rate}, {"arrest_time", arrest_time},
+            {"release_start", release_start}, {"passed_at_switch_on", passed_at_switch_on}, {"passed_at_arrest", passed_at_arrest},
+            {"jammed", jammed}, {"released", released}, {"undetermined", undetermined},
+            {"field_off_s", std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr)},
+            {"flow_scale", valve_flow ? valve_flow->scale() : 1.0},
+            {"drag_factors", valve_flow ? valve_flow->drag_factors() : std::vector<double>{}},
+            {"flow_state", {flow_state.arrested_pressure, flow_state.stretch_pressure, flow_state.max_fraction,
+                            flow_state.max_drag_factor}},
+            {"flow_history", fh}, {"snapshots", snapshots.save()},
+            {"arrest_clusters", {arrest_view.valid, arrest_view.largest, arrest_view.count, arrest_view.spans}}};
+    };
+    ProtocolPosition start;
+    if (resuming) {
+        const nlohmann::json& st = checkpoint.state;
+        flux.restore(st.at("flux"));
+        base_rate = st.at("base_rate");
+        arrest_time = st.at("arrest_time");
+        release_start = st.at("release_start");
+        passed_at_switch_on = st.at("passed_at_switch_on");
+        passed_at_arrest = st.at("passed_at_arrest");
+        jammed = st.at("jammed");
+        released = st.at("released");
+        undetermined = st.at("undetermined");
+        if (!st.at("field_off_s").is_null()) field->switch_off_at(st["field_off_s"].get<double>());
+        if (valve_flow) {
+            // The cells' factors and scale as the last observation left them: the steps up to the
+            // next observation use them.
+            valve_flow->set_scale(st.at("flow_scale").get<double>());
+            const auto factors = st.at("drag_factors").get<std::vector<double>>();
+            if (!factors.empty()) resistance.apply(*valve_flow, factors);
+        }
+        const auto fs = st.at("flow_state").get<std::vector<double>>();
+        flow_state.scale = st.at("flow_scale").get<double>();
+        flow_state.arrested_pressure = fs.at(0);
+        flow_state.stretch_pressure = fs.at(1);
+        flow_state.max_fraction = fs.at(2);
+        flow_state.max_drag_factor = fs.at(3);
+        for (const auto& row : st.at("flow_history"))
+            flow_history.push_back({row.at(0).get<double>(), row.at(1).get<double>(), row.at(2).get<double>(),
+                                    row.at(3).get<double>()});
+        snapshots.restore(st.at("snapshots"));
+        const auto& ac = st.at("arrest_clusters");
+        arrest_view = {ac.at(1).get<long>(), ac.at(2).get<long>(), ac.at(3).get<bool>(), ac.at(0).get<bool>()};
+        start = checkpoint.header.position;
+        run.resumed_stage_log = checkpoint.stage_log;
+    }
+    run.checkpoint_state = [&] { return nlohmann::json{{"protocol", protocol_state()}, {"campaign", options.campaign}}; };
+    auto observe_all = [&](const System& sys, std::size_t stage, long step) {
+        observer(sys, stage, step);
+        snapshots.observe(sys);
+    };
+    // The arch is looked at when the flow arrests (after the release it has let go): the
+    // clusters, whether the largest spans the throat, and the picture are taken then.
+    auto protocol_finished = run.stage_finished;
+    run.stage_finished = [&](const System& sys, std::size_t stage) {
+        const bool was_jammed = jammed;
+        const bool done = protocol_finished(sys, stage);
+        if (jammed && !was_jammed) {
+            snapshots.write_tagged(sys, "arrest");
+            arrest_view = look_at_clusters(sys);
+        }
+        return done;
+    };
+    const RunOutcome outcome = run_protocol(scene, run, start, observe_all);
+    if (outcome.exit_status == 0) snapshots.write_tagged(s, "end");
 
     JamOutcome out;
     out.report = outcome.report;
     out.exit_status = outcome.exit_status;
     out.jammed = jammed;
     out.time_to_arrest = arrest_time;
-    const ContactClusters clusters = contact_clusters(s);
+    // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
+    const ClusterView view = arrest_view.valid ? arrest_view : look_at_clusters(s);
     nlohmann::json history = nlohmann::json::array();
     const auto& h = flux.history();
     const std::size_t stride = std::max<std::size_t>(1, h.size() / 400);  // keep the report readable
@@ -148,9 +226,10 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     if (undetermined)
         out.report["warnings"].push_back("no grains crossed the throat during the no-field flow, so an arrest cannot be "
                                          "told from a blocked start: lengthen protocol/flow_time or check the flow");
-    r["largest_cluster"] = clusters.size.empty() ? 0 : clusters.size[0];
-    r["clusters"] = clusters.size.size();
-    r["largest_cluster_spans_throat"] = valve_wall ? spans_throat(s, clusters, js.valve, *valve_wall) : false;
+    r["largest_cluster"] = view.largest;
+    r["clusters"] = view.count;
+    r["largest_cluster_spans_throat"] = view.spans;
+    r["clusters_seen_at"] = arrest_view.valid ? "arrest" : "end of run";
     r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history},
                          {"partial", outcome.exit_status != 0}};
     r["field_switched_on_s"] = p.flow_time;
@@ -162,7 +241,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     r["flow_profile"] = valve_flow && valve_flow->profile() == ValveFlow::Profile::conserving ? "conserving" : "source";
     // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
     // (the source tuned its flow so that this was about 100 kPa).
-    r["arrested_bed_drag_pressure_Pa"] = flow_state.arrested_pressure;
+    r["arrested_bed_drag_pressure_Pa"] = valve_flow ? nlohmann::json(flow_state.arrested_pressure) : nlohmann::json(nullptr);
     if (js.flow.pressure_driven) {
         r["supply_pressure_Pa"] = js.flow.supply_pressure;
         r["resistance_cells"] = resistance.cells();
@@ -177,10 +256,8 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                              {"rows", sh}};
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
-    if (!options.picture_path.empty() && s.particles.size() > 0) {
-        write_throat_picture(options.picture_path, s, clusters, js.valve);
-        out.report["outputs"]["throat_picture"] = options.picture_path;
-    }
+    if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
+    if (!options.picture_path.empty() && s.particles.size() > 0) out.report["outputs"]["throat_picture"] = options.picture_path;
     return out;
 }
 

@@ -12,6 +12,13 @@ struct JamRunOptions {
     int threads = 1;
     bool progress = true;
     std::string picture_path;  // "" for none
+    // VTK snapshots (jam/jam_snapshots.hpp): "" for none; every `snapshot_every` seconds.
+    std::string snapshot_directory;
+    double snapshot_every = 0;
+    // Continue from this checkpoint (jam/jam_checkpoint.hpp) instead of building fresh grains.
+    std::string resume_checkpoint;
+    // The command's record of the seeds, stored in every checkpoint for `--resume`.
+    nlohmann::json campaign;
 };
 
 struct JamOutcome {

@@ -43,4 +43,15 @@ double ThroatFlux::rate(double window) const {
     return rate_between(t1 - window, t1);
 }
 
+nlohmann::json ThroatFlux::save() const {
+    return {{"plane", plane_}, {"previous_z", previous_z_}, {"passed", passed_}, {"history", history_}};
+}
+
+void ThroatFlux::restore(const nlohmann::json& state) {
+    plane_ = state.at("plane").get<double>();
+    previous_z_ = state.at("previous_z").get<std::vector<double>>();
+    passed_ = state.at("passed").get<long>();
+    history_ = state.at("history").get<std::vector<std::pair<double, long>>>();
+}
+
 }  // namespace mrjam

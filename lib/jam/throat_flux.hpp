@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "system.hpp"
 
 namespace mrjam {
@@ -20,6 +22,11 @@ public:
     double rate(double window) const;
     // Grains per second between two times (linear in the recorded history).
     double rate_between(double t0, double t1) const;
+
+    // The whole counting state (previous positions, net count, history) for a checkpoint; JSON
+    // numbers round-trip doubles exactly, so a resumed run counts as the uninterrupted one.
+    nlohmann::json save() const;
+    void restore(const nlohmann::json& state);
 
 private:
     double plane_;

@@ -90,6 +90,7 @@ public:
     bool uniform() const override { return inner_->uniform(); }
     std::string name() const override { return inner_->name(); }
     void switch_off_at(double time) { off_ = time; }
+    double switch_off_time() const { return off_; }  // infinity until switched off
     bool active(double time) const { return time >= on_ && time < off_; }
 
 private:

@@ -144,6 +144,11 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     nlohmann::json stage_log =
         options.resumed_stage_log.is_array() ? options.resumed_stage_log : nlohmann::json::array();
 
+    auto history_of = [&](const nlohmann::json& log) {
+        if (!options.checkpoint_state) return log;
+        return nlohmann::json{{"mode", options.mode}, {"stage_log", log}, {"state", options.checkpoint_state()}};
+    };
+
     const long total = scene.total_steps();
     long done_before = 0;
     for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k) done_before += scene.stages[k].steps;
@@ -195,7 +200,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 }
                 const bool ck_steps = scene.output.checkpoint_every_steps > 0 && s.step % scene.output.checkpoint_every_steps == 0;
                 if (ck_steps || seconds_since(last_checkpoint) > scene.output.checkpoint_every_seconds) {
-                    write_checkpoint(checkpoint, scene.resolved, s, pos, stage_log);
+                    write_checkpoint(checkpoint, scene.resolved, s, pos, history_of(stage_log));
                     last_checkpoint = Clock::now();
                 }
                 if (options.progress && seconds_since(last_progress) > scene.output.progress_interval_s) {
@@ -209,11 +214,14 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 }
                 if (interrupt_requested()) break;
             }
-            if (interrupt_requested()) { status = "interrupted"; break; }
+            // A stage its criterion has just ended is finished even if Ctrl-C came in the same
+            // step: a checkpoint inside it would make a resumed run test the criterion again.
+            if (interrupt_requested() && !ended_early && i < st.steps) { status = "interrupted"; break; }
             stage_log.push_back({{"name", st.name}, {"steps", i}, {"ended_early", ended_early}, {"end_time_s", s.time},
                                  {"state", state_summary(s)}});
             ended_early = false;
             pos = ProtocolPosition{k + 1, 0, false};
+            if (interrupt_requested() && k + 1 < scene.stages.size()) { status = "interrupted"; break; }
         }
     } catch (const BlowUp& e) {
         status = "failed";
@@ -222,7 +230,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     }
 
     if (status == "interrupted") {
-        write_checkpoint(checkpoint, scene.resolved, s, pos, stage_log);
+        write_checkpoint(checkpoint, scene.resolved, s, pos, history_of(stage_log));
         report["checkpoint"] = checkpoint;
         report["resume_with"] = "mrjam " + options.mode + " --resume " + checkpoint;
         outcome.exit_status = 130;

@@ -25,6 +25,11 @@ struct RunOptions {
     // Checked at each observation: true ends the current stage early (a mode's stopping
     // criterion, such as flow arrest). The stage log records the steps actually run.
     std::function<bool(const System&, std::size_t stage)> stage_finished;
+    // A mode whose protocol keeps state outside the engine (a jam run's flux count and arrest
+    // window) returns it here; every checkpoint then stores the object
+    //     {"mode": MODE, "stage_log": [...], "state": checkpoint_state()}
+    // as its history instead of the bare stage log, so the mode can resume exactly.
+    std::function<nlohmann::json()> checkpoint_state;
 };
 
 struct RunOutcome {

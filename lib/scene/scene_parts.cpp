@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 
 namespace mrjam {
@@ -71,8 +72,16 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
         // constriction's diameter in the bore, raised by the area ratio inside the constriction.
         const ValveGeometry valve = read_valve(node.object("valve"));
         const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-        const bool conserving = node.choice("profile", {"source", "conserving"}, "source") == "conserving";
-        flow = std::make_shared<ValveFlow>(valve, speed, conserving ? ValveFlow::Profile::conserving : ValveFlow::Profile::source);
+        if (valve.is_slot()) {
+            // The slot's profile is the conserving reading only (fluid/slot_valve_flow.hpp).
+            if (node.choice("profile", {"source", "conserving"}, "conserving") != "conserving")
+                node.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
+            flow = std::make_shared<SlotValveFlow>(valve.slot(), speed);
+        } else {
+            const bool conserving = node.choice("profile", {"source", "conserving"}, "source") == "conserving";
+            flow = std::make_shared<ValveFlow>(valve, speed,
+                                               conserving ? ValveFlow::Profile::conserving : ValveFlow::Profile::source);
+        }
     } else if (type == "uniform") {
         flow = std::make_shared<UniformFlow>(node.vector("velocity", units::velocity, std::nullopt));
     } else if (type == "couette") {
@@ -164,6 +173,8 @@ ValveGeometry read_valve(SceneNode node) {
         v.constriction_diameter = constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
     else
         v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
+    v.orifice = node.choice("orifice", {"circular", "slot"}, "circular") == "slot" ? Orifice::slot : Orifice::circular;
+    if (node.has("slot_width") || v.is_slot()) v.slot_width = node.quantity("slot_width", L, 0.0, Bounds::any());
     v.taper_length = node.quantity("taper_length", L, v.taper_length, Bounds::any());
     v.throat_length = node.quantity("throat_length", L, v.throat_length, Bounds::any());
     v.upstream_length = node.quantity("upstream_length", L, v.upstream_length, Bounds::any());

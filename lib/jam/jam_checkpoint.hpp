@@ -1,0 +1,23 @@
+#pragma once
+// A jam run's checkpoint: the engine state plus, in its history (run/runner.hpp's
+// checkpoint_state), the protocol's state (phase, no-field reference flux, arrest window, flux
+// and flow-scale histories) and the command's record of the seeds (which seed was running, the
+// outcomes of those before it), so `mrjam jam --resume` ends as the uninterrupted run.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "io/checkpoint.hpp"
+
+namespace mrjam {
+
+struct JamCheckpoint {
+    CheckpointHeader header;
+    nlohmann::json stage_log;  // the engine's stages finished so far
+    nlohmann::json state;      // run_jam's protocol state
+    nlohmann::json campaign;   // the command's record: scene, tier, seeds, runs so far
+};
+
+// Throws SceneError("--resume", ...) when the file is not a jam checkpoint.
+JamCheckpoint read_jam_checkpoint(const std::string& path);
+
+}  // namespace mrjam

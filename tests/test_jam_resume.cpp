@@ -1,0 +1,222 @@
+// `mrjam jam --resume` and `--snapshots`: a jam run continued from a checkpoint taken in any
+// phase of its protocol (or of its seeds) ends bit for bit as the uninterrupted run, and the
+// snapshots carry each grain's contact cluster.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "test_support.hpp"
+
+using namespace mrjam_test;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A 0.65 mm stretch of valve with a short constriction in a 2-diameter slab: about 1500 grains, a
+// second of work per seed. `arrest_fraction` 0.95 makes the field's slowing of the flux count as
+// an arrest, so the release phase is run too. The pressure-driven flow at a low supply pressure
+// (10 kPa) throttles the flow during the run (its scale moves between about 0.3 and 1), so its
+// controller's state must survive a resume as well.
+json tiny_scene(const std::string& out, long checkpoint_every) {
+    json scene = {{"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
+                  {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
+                  {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
+                  {"protocol", {{"flow_time", "0.03 ms"}, {"max_time", "0.03 ms"}, {"arrest_window", "0.008 ms"},
+                                {"arrest_fraction", 0.95}, {"release_time", "0.015 ms"}, {"observe_every_steps", 20}}},
+                  {"output", {{"directory", out}}}};
+    if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;
+    return scene;
+}
+
+Result jam(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra) {
+    write_text(dir.file(name + ".json"), scene.dump());
+    return mrjam(dir, "jam " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
+                          " --fidelity quick --quiet " + extra);
+}
+
+// The results that must not depend on an interruption: everything but the wall-clock numbers.
+json comparable(json report) {
+    report.erase("wall_time_s");
+    report.erase("performance");
+    report.erase("resumed_from");
+    report.erase("outputs");
+    report["results"]["flux_history"].erase("partial");
+    return report;
+}
+
+// Steps of each stage (flow, field_on, release) in a finished report.
+std::vector<long> stage_steps(const json& report) {
+    std::vector<long> steps;
+    for (const auto& st : report["results"]["stages"]) steps.push_back(st["steps"].get<long>());
+    return steps;
+}
+
+// The int32 big-endian array NAME of a legacy VTK file (a FIELD array "NAME 1 N int").
+std::vector<std::int32_t> legacy_int_array(const std::string& file, const std::string& name) {
+    const std::string header = "\n" + name + " 1 ";
+    const auto at = file.find(header);
+    REQUIRE(at != std::string::npos);
+    const auto line_end = file.find('\n', at + 1);
+    const std::size_t n = std::stoul(file.substr(at + header.size()));
+    std::vector<std::int32_t> values(n);
+    REQUIRE(line_end + 1 + 4 * n <= file.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto* b = reinterpret_cast<const unsigned char*>(file.data() + line_end + 1 + 4 * i);
+        values[i] = static_cast<std::int32_t>((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3]);
+    }
+    return values;
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as the uninterrupted run") {
+    TempDir dir;
+    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "--seeds 2");
+    CAPTURE(full.err);
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    const std::vector<long> steps = stage_steps(a);
+    REQUIRE(steps.size() == 3);
+    // Without an arrest the release phase ends at its first observation and this test would not
+    // reach it; the scene is made so that the field's slowing counts as one.
+    REQUIRE(a["results"]["jammed"] == true);
+    // The flow was throttled at some point, so a lost flow scale would change the run.
+    double lowest = 1;
+    for (const auto& row : a["results"]["flow_history"]["rows"]) lowest = std::min(lowest, row[1].get<double>());
+    REQUIRE(lowest < 0.9);
+    const long total = steps[0] + steps[1] + steps[2];
+
+    // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
+    // no-field flow, with the field on, and in the release. With two seeds the first seed's
+    // checkpoint is overwritten by the second's, so that resume starts inside seed 2 and must
+    // still report seed 1's results and the jam probability over both; the single-seed cases
+    // compare everything but the statistics over seeds.
+    struct Case { std::string phase; long start, end; int seeds; };
+    for (const Case& c : {Case{"flow", 0, steps[0], 1}, Case{"field_on", steps[0], steps[0] + steps[1], 2},
+                          Case{"release", steps[0] + steps[1], total, 1}}) {
+        CAPTURE(c.phase);
+        const long every = (std::max(c.start, total / 2) + c.end) / 2 + 1;  // inside the phase, and 2N > total
+        if (every >= c.end) {
+            MESSAGE("stage lengths leave no single checkpoint in this phase: skipped");
+            continue;
+        }
+        const std::string name = "cut_" + c.phase;
+        const Result cut = jam(dir, name, tiny_scene(dir.file("out_" + name), every), "--seeds " + std::to_string(c.seeds));
+        REQUIRE(cut.exit_code == 0);
+        const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+        REQUIRE(fs::exists(ck));
+        const Result resumed = mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+        CHECK(b["resumed_from"] == ck);
+        // It continued, not restarted: fewer steps run than the whole protocol.
+        if (c.seeds == 1) CHECK(b["performance"]["steps_run"].get<long>() < a["performance"]["steps_run"].get<long>());
+        // Inputs, flux history, arrest and release, the flow scale, clusters, energies: all
+        // identical, bit for bit.
+        json ra = comparable(a)["results"], rb = comparable(b)["results"];
+        if (c.seeds == 1)
+            for (const char* key : {"jam_probability", "time_to_arrest_mean_s", "time_to_arrest_std_s"}) {
+                ra.erase(key);
+                rb.erase(key);
+            }
+        CHECK(rb == ra);
+        json inputs_a = a["inputs_jam"], inputs_b = b["inputs_jam"];
+        inputs_a.erase("output");  // the directory and the checkpoint interval differ on purpose
+        inputs_b.erase("output");
+        CHECK(inputs_b == inputs_a);
+        if (c.seeds == 2) CHECK(b["seeds"] == a["seeds"]);
+        // `mrjam run` would continue the engine without the protocol: it points to jam instead;
+        // and a resume cannot change the tier or the seeds it was started with.
+        if (c.phase == "flow") {
+            const Result reseeded = mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
+            CHECK(reseeded.exit_code == 2);
+            CHECK(reseeded.err.find("--seeds") != std::string::npos);
+            const Result run = mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
+            CHECK(run.exit_code == 2);
+            CHECK(run.err.find("mrjam jam --resume") != std::string::npos);
+        }
+    }
+    // Not a jam checkpoint: refused naming --resume.
+    write_text(dir.file("not.mrjam"), "nothing");
+    const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--resume") != std::string::npos);
+}
+
+TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
+    TempDir dir;
+    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    write_text(dir.file("cut.json"), tiny_scene(dir.file("out_cut"), 0).dump());
+    const std::string delay = std::to_string(std::max(0.05, 0.5 * a["wall_time_s"].get<double>()));
+    const Result cut = mrjam(dir, "jam " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
+                                      " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+    if (cut.exit_code == 0 || !fs::exists(dir.file("cut_report.json"))) {
+        MESSAGE("the signal missed the run (finished first, or came before it started): nothing to resume");
+        return;
+    }
+    REQUIRE(cut.exit_code == 130);
+    const json c = json::parse(slurp(dir.file("cut_report.json")));
+    CHECK(c["results"]["flux_history"]["partial"] == true);
+    CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
+    const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
+                                          quote(dir.file("resumed.json")) + " --quiet");
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    const json b = json::parse(slurp(dir.file("resumed.json")));
+    CHECK(b["results"]["flux_history"]["partial"] == false);
+    CHECK(comparable(b)["results"] == comparable(a)["results"]);
+}
+
+TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {
+    TempDir dir;
+    const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0), "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every '0.02 ms'");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(slurp(dir.file("snap_report.json")));
+    const double t_end = report["results"]["simulated_time_s"].get<double>();
+    int series = 0;
+    for (const auto& entry : fs::directory_iterator(dir.file("vtk")))
+        if (entry.path().filename().string().find("_step") != std::string::npos) ++series;
+    // One at the first observation and one per 0.02 ms after it; the last multiple of 0.02 ms
+    // may fall after the last observation (every 20 steps), so it may be missing.
+    const int due = static_cast<int>(std::floor(t_end / 0.02e-3)) + 1;
+    CHECK(series <= due);
+    CHECK(series >= due - 1);
+    CHECK(series >= 3);
+    CHECK(report["outputs"]["snapshots"].size() == static_cast<std::size_t>(series) + 2);
+    REQUIRE(report["results"]["jammed"] == true);
+    for (const char* tag : {"arrest", "end"}) {
+        CAPTURE(tag);
+        const std::string file = slurp(dir.file(std::string("vtk/seed1_") + tag + ".vtk"));
+        const auto cluster = legacy_int_array(file, "cluster");
+        const auto size = legacy_int_array(file, "cluster_size");
+        REQUIRE(cluster.size() == size.size());
+        REQUIRE(!cluster.empty());
+        // Every grain's cluster_size is the number of grains with its label, and label 0 is the
+        // largest cluster.
+        std::map<std::int32_t, std::int32_t> count;
+        for (auto c : cluster) ++count[c];
+        std::int32_t largest = 0;
+        for (auto [label, n] : count) largest = std::max(largest, n);
+        CHECK(count[0] == largest);
+        for (std::size_t i = 0; i < cluster.size(); ++i) REQUIRE(size[i] == count[cluster[i]]);
+    }
+    // The report names the clusters as they were at the arrest: the arrest snapshot's largest.
+    CHECK(report["results"]["clusters_seen_at"] == "arrest");
+    const auto arrest_cluster = legacy_int_array(slurp(dir.file("vtk/seed1_arrest.vtk")), "cluster_size");
+    CHECK(*std::max_element(arrest_cluster.begin(), arrest_cluster.end()) == report["results"]["largest_cluster"].get<int>());
+    // Bad interval: refused, naming the option.
+    const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0), "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--snapshot-every") != std::string::npos);
+}
+
+}  // TEST_SUITE
