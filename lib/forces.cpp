@@ -86,7 +86,8 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             if constexpr (Rolling == RollingModel::epsd) {
                 in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
             }
-            in.contact_velocity = v[i] - v[j] - cross(w[i] * ri + w[j] * rj, in.normal);
+            // The image velocity is zero except for Lees-Edwards images across z.
+            in.contact_velocity = v[i] - v[j] + list.image_velocity(image[k]) - cross(w[i] * ri + w[j] * rj, in.normal);
             in.relative_spin = w[i] - w[j];
             in.wall = false;
             ContactOutput out;
@@ -181,7 +182,7 @@ void pair_damping_forces(System& s) {
             if (!list.touching[k]) continue;
             const std::uint32_t j = list.partners[k];
             if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
-            const Vec3 f = (p.velocity[i] - p.velocity[j]) * (-c);
+            const Vec3 f = (p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k])) * (-c);
             p.force[i] += f;
             p.force[j] -= f;
             if (p.raft[i] >= 0) s.rafts[p.raft[i]].force += f;

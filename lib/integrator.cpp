@@ -34,7 +34,16 @@ std::size_t kick_pass(System& s, bool& rebuild) {
     const bool stale = p.size() + 1 != s.contacts.offsets.size();
     int moved = 0;
     const Vec3* __restrict built = s.contacts.positions_at_build();
-    const double rebuild_sq = s.contacts.rebuild_displacement_sq();
+    if constexpr (Start) {
+        // The Lees-Edwards images slide with the drift below; the lists' image shifts follow.
+        if (s.domain.lees_edwards) {
+            s.domain.shear_offset += s.domain.shear_velocity * dt;
+            s.contacts.set_shear_offset(s.domain);
+            if (s.magnetic.enabled) s.magnetic.pairs.set_shear_offset(s.domain);
+        }
+    }
+    const double rebuild_sq = s.contacts.rebuild_displacement_sq(s.domain);
+    if (rebuild_sq < 0) moved = 1;  // the offset alone has used up the skin
     bool closed[3];
     bool any_closed = false;
     for (int k = 0; k < 3; ++k) any_closed |= (closed[k] = !dom.periodic[k]);
@@ -81,6 +90,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
 // The magnetic list shares the contact list's skin and is rebuilt with it (after it, so the
 // positions are already wrapped into the box).
 void rebuild_neighbours(System& s) {
+    s.domain.wrap_shear_offset();
     s.contacts.build(s.particles, s.domain, s.threads);
     if (s.magnetic.enabled) s.magnetic.pairs.build(s.particles, s.domain, s.threads);
 }

@@ -35,14 +35,15 @@ double contact_moment(const System& s) {
             in.reduced_radius = ri * rj / (ri + rj);
             in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
             in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
-            in.contact_velocity = p.velocity[i] - p.velocity[j] - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
+            const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
+            in.contact_velocity = dv - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
             in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
             in.wall = false;
             ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
             ContactOutput out;
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
             sum += d.z * out.force_on_i.x;
-            if (s.physics.pair_damping > 0) sum += d.z * (-s.physics.pair_damping * (p.velocity[i].x - p.velocity[j].x));
+            if (s.physics.pair_damping > 0) sum += d.z * (-s.physics.pair_damping * dv.x);
         }
     }
     return sum;
