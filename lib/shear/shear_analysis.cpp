@@ -27,7 +27,8 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
         }
         r["magnetisation"] = main->value("magnetisation", nlohmann::json());
         r["cell"] = {{"size_m", {spec.cell.x, spec.cell.y, spec.cell.z}}, {"raft_thickness_m", spec.raft_thickness},
-                     {"gap_m", spec.gap()}, {"grains", (*main)["grains"]}, {"timestep_s", (*main)["timestep_s"]}};
+                     {"gap_m", spec.gap()},
+                     {"boundaries", spec.lees_edwards ? "lees_edwards" : "rafts"}, {"grains", (*main)["grains"]}, {"timestep_s", (*main)["timestep_s"]}};
         if (main->contains("rafts")) r["cell"]["rafts"] = (*main)["rafts"];
         r["stress_series_upper_Pa"] = nlohmann::json::array();
         for (const auto& q : (*main)["rates"])

@@ -111,7 +111,15 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         auto given = root.optional_object("cell");
         SceneNode cell = given ? *given : SceneNode(in, s.resolved["cell"], "/cell");
         s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, tier.cell_size, tier.cell_size}, Bounds::positive());
-        s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+        s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
+        if (s.lees_edwards) {
+            if (cell.has("raft_thickness"))
+                cell.fail("raft_thickness", "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
+                                            "(remove raft_thickness or use rafts)");
+            s.raft_thickness = 0;
+        } else {
+            s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+        }
         if (!(s.gap() > 0))
             cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) + " each) leave no gap in a cell " +
                                             fmt_um(s.cell.z) + " high; thin the rafts or raise the cell");
@@ -323,6 +331,12 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
         {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
                     {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
     scene["run"]["steps"] = 0;
+    if (s.lees_edwards) {
+        // Periodic in z too: the sliding images replace the walls (shear_cell.cpp switches the
+        // domain to Lees-Edwards; the random packing sees an ordinary periodic box).
+        scene["domain"]["periodic"] = "xyz";
+        scene.erase("walls");
+    }
     if (s.dissipation == "contact_damping") {
         scene.erase("fluid");
         scene["contact"]["pair_damping"] = s.contact_damping;

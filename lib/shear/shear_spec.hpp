@@ -18,8 +18,11 @@ struct ShearSpec {
     std::string tier;
     std::uint64_t seed = 1;
 
-    Vec3 cell{};                  // m; x, y periodic, z between the walls
-    double raft_thickness = 0;    // m, frozen layer at the bottom and at the top
+    Vec3 cell{};                  // m; x, y periodic, z between the walls (or periodic, Lees-Edwards)
+    // "rafts": frozen layers against two walls carry the shear (the source's cell);
+    // "lees_edwards": periodic in z too, the images across z slide at rate * Z (no walls, no rafts).
+    bool lees_edwards = false;
+    double raft_thickness = 0;    // m, frozen layer at the bottom and at the top (0 with Lees-Edwards)
     double volume_fraction = 0.3;
     nlohmann::json size_table;    // engine "size" object (number table, or single)
     double largest_diameter = 0;  // of the distribution (for the thickness check)
@@ -60,6 +63,7 @@ struct ShearSpec {
     double progress_interval = 5;
     double checkpoint_every_seconds = 600;
 
+    // The sheared height: between the rafts' inner faces, or the whole period with Lees-Edwards.
     double gap() const { return cell.z - 2 * raft_thickness; }
 };
 

@@ -121,6 +121,17 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
     return out;
 }
 
+double lees_edwards_stress(const System& s) {
+    const Particles& p = s.particles;
+    const Vec3 L = s.domain.length();
+    double kinetic = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3 u = s.flow->velocity(p.position[i], s.time);
+        kinetic += p.mass[i] * (p.velocity[i].x - u.x) * p.velocity[i].z;
+    }
+    return -(contact_moment_any(s) + magnetic_moment_sum(s) + kinetic) / (L.x * L.y * L.z);
+}
+
 ChainState chain_state(const System& s, const Vec3& field_direction) {
     const Particles& p = s.particles;
     const NeighborList& list = s.contacts;
