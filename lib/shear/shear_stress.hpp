@@ -36,6 +36,13 @@ ShearStress shear_stress(const System& system, int upper_raft, int lower_raft, i
 // mean in any layer, so the momentum flux across every z plane is the pair and kinetic sum alone.
 double lees_edwards_stress(const System& system);
 
+// The x force per area that the grains above the sliding boundary exert, through it, on the
+// grains below (pairs listed with a z image; method of planes): the momentum flux across that one
+// plane. In steady homogeneous shear its time average equals the virial's, a check that the
+// sliding images carry the stress (tests/test_lees_edwards_stress.cpp). The kinetic flux of grains
+// crossing the plane is left out: small wherever the Stokes number is.
+double lees_edwards_boundary_stress(const System& system);
+
 // Chain-formation measures for the magnetisation criterion.
 struct ChainState {
     double contacts_per_grain = 0;  // 2 x grain-grain contacts / grains
