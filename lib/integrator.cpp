@@ -44,6 +44,15 @@ std::size_t kick_pass(System& s, bool& rebuild) {
     }
     const double rebuild_sq = s.contacts.rebuild_displacement_sq(s.domain);
     if (rebuild_sq < 0) moved = 1;  // the offset alone has used up the skin
+    // Monolayer: no out-of-plane velocity, spin only about the normal. Applied after each kick, so
+    // an out-of-plane force or initial velocity never moves a grain off its plane.
+    const int plane_normal = dom.monolayer_normal;
+    auto confine = [plane_normal](Vec3& vi, Vec3& wi) {
+        vi[plane_normal] = 0;
+        const double spin = wi[plane_normal];
+        wi = Vec3{};
+        wi[plane_normal] = spin;
+    };
     bool closed[3];
     bool any_closed = false;
     for (int k = 0; k < 3; ++k) any_closed |= (closed[k] = !dom.periodic[k]);
@@ -54,6 +63,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             if (free) {
                 v[i] += f[i] * (h / mass[i]);
                 w[i] += t[i] * (h / inertia[i]);
+                if (plane_normal >= 0) confine(v[i], w[i]);
             }
             // One sum is non-finite if any term is: a cheap test for NaN and infinity.
             const double sum = x[i].x + x[i].y + x[i].z + v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z;
@@ -69,6 +79,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             if (free) {
                 v[i] += f[i] * (h / mass[i]);
                 w[i] += t[i] * (h / inertia[i]);
+                if (plane_normal >= 0) confine(v[i], w[i]);
             } else {  // prescribed rigid motion
                 v[i] = s.rafts[raft[i]].velocity;
                 w[i] = Vec3{};

@@ -21,6 +21,9 @@ struct Domain {
     bool lees_edwards = false;
     double shear_offset = 0;    // m, x shift of the image at z + Lz; kept in [-Lx/2, Lx/2) at rebuilds
     double shear_velocity = 0;  // m/s, x velocity of the image at z + Lz relative to the box
+    // A monolayer: the grain centres stay in the mid-plane normal to this axis (-1: 3D). The
+    // integrator removes the out-of-plane velocity and every spin component but the one about it.
+    int monolayer_normal = -1;
 
     Vec3 length() const { return hi - lo; }
 

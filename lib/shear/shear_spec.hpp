@@ -24,6 +24,8 @@ struct ShearSpec {
     bool lees_edwards = false;
     double raft_thickness = 0;    // m, frozen layer at the bottom and at the top (0 with Lees-Edwards)
     double volume_fraction = 0.3;
+    bool monolayer = false;       // one layer of grains in the x-z plane (y: thickness, not periodic)
+    double area_fraction = 0.5;   // a monolayer's disc area / plane area
     nlohmann::json size_table;    // engine "size" object (number table, or single)
     double largest_diameter = 0;  // of the distribution (for the thickness check)
     nlohmann::json material;      // engine material, scaled
