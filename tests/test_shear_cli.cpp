@@ -97,6 +97,29 @@ TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when ask
     CHECK(stray.err.find("/contact_damping") != std::string::npos);
 }
 
+TEST_CASE("shear cli: a monolayer cell runs end to end, with rafts and with Lees-Edwards boundaries") {
+    TempDir dir;
+    for (const char* boundaries : {"rafts", "lees_edwards"}) {
+        CAPTURE(boundaries);
+        json scene = small_scene(dir.file(std::string("out_") + boundaries));
+        scene["cell"] = {{"size", {"40 um", "6.7 um", "40 um"}}, {"monolayer", true}, {"boundaries", boundaries}};
+        if (std::string(boundaries) == "rafts") scene["cell"]["raft_thickness"] = "7 um";
+        scene["area_fraction"] = 0.6;
+        const Result r = shear(dir, std::string("mono_") + boundaries, scene, "--quiet");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file(std::string("mono_") + boundaries + "_report.json")));
+        const json& cell = rep["results"]["cell"];
+        CHECK(cell["monolayer"] == true);
+        CHECK(cell["stress_thickness_m"].get<double>() == doctest::Approx(6.7e-6));
+        // 0.6 of a 40 um square in 6.7 um discs: 0.6 x 1600 / 35.3 = 27 discs.
+        CHECK(cell["grains"].get<int>() == doctest::Approx(27).epsilon(0.1));
+        REQUIRE(rep["results"]["flow_curve"].size() == 3);
+        for (const auto& q : rep["results"]["flow_curve"]) CHECK(std::isfinite(q["stress_Pa"].get<double>()));
+        CHECK(rep["engine_scene"]["domain"]["monolayer"] == "y");
+    }
+}
+
 TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {
     TempDir dir;
     json base = small_scene(dir.file("out"));
@@ -135,6 +158,35 @@ TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix"
         json s = base;
         s["cell"]["boundaries"] = "lees_edwards";  // keeps raft_thickness: a Lees-Edwards cell has no rafts
         expect_shear_refused(dir, "rafts_with_lees_edwards", s, "/cell/raft_thickness");
+    }
+    json mono = base;
+    mono["cell"]["monolayer"] = true;
+    mono["cell"]["size"] = {"40 um", "6.7 um", "40 um"};
+    mono.erase("volume_fraction");
+    {
+        json s = mono;
+        s["volume_fraction"] = 0.3;
+        expect_shear_refused(dir, "monolayer_volume_fraction", s, "/volume_fraction");
+    }
+    {
+        json s = mono;
+        s["area_fraction"] = 0.9;
+        expect_shear_refused(dir, "monolayer_too_dense", s, "/area_fraction");
+    }
+    {
+        json s = mono;
+        s["field"]["direction"] = {0, 1, 0};
+        expect_shear_refused(dir, "monolayer_field_out_of_plane", s, "/field/direction");
+    }
+    {
+        json s = mono;
+        s["cell"]["size"] = {"40 um", "3 um", "40 um"};
+        expect_shear_refused(dir, "monolayer_too_thin", s, "/cell/size");
+    }
+    {
+        json s = base;
+        s["area_fraction"] = 0.5;
+        expect_shear_refused(dir, "area_fraction_in_3d", s, "/area_fraction");
     }
     {
         json s = base;

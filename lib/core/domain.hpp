@@ -2,7 +2,7 @@
 // The simulation box: bounds and which axes are periodic. Non-periodic axes are closed by
 // walls the scene declares; the box bounds there only size the cell grid.
 //
-// Lees-Edwards (sliding periodic) boundaries: with `lees_edwards` on (all three axes periodic),
+// Lees-Edwards (sliding periodic) boundaries: with `lees_edwards` on (x and z periodic),
 // the image of the box across the shear-gradient boundary z sits displaced along the flow axis x
 // by `shear_offset` and moves at `shear_velocity` = rate * Lz along x (the image above: +offset,
 // +velocity). A uniform shear then has no walls and no boundary layers (Lees and Edwards 1972;

@@ -101,8 +101,9 @@ bool owns(const Particles& p, std::uint32_t i, std::uint32_t j) {
 void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     const std::size_t n = p.size();
     const Vec3 len = domain.length();
-    if (domain.lees_edwards && !(domain.periodic[0] && domain.periodic[1] && domain.periodic[2]))
-        throw std::runtime_error("Lees-Edwards boundaries need a box periodic along x, y and z (walls cannot close a sliding boundary)");
+    // y may be closed (a monolayer, or walls along y): the sliding only couples x and z.
+    if (domain.lees_edwards && !(domain.periodic[0] && domain.periodic[2]))
+        throw std::runtime_error("Lees-Edwards boundaries need a box periodic along x (flow) and z (gradient)");
     for (std::size_t i = 0; i < n; ++i) domain.wrap(p.position[i], p.velocity[i]);
 
     double r_max = 0, r_sum = 0;
