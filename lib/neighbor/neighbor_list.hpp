@@ -86,6 +86,7 @@ public:
     // Added to v_i - v_j: the partner's image velocity (non-zero only for Lees-Edwards images
     // across z), so contact damping and friction see the true relative velocity.
     const Vec3& image_velocity(std::uint8_t code) const { return velocity_shifts_[code]; }
+    const Vec3* image_velocities() const { return velocity_shifts_; }
 
     std::size_t pair_count() const { return partners.size(); }
 
