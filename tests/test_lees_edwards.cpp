@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "core/random.hpp"
@@ -155,6 +156,53 @@ TEST_CASE("lees-edwards: touching pairs stay listed while moves and the offset's
     CHECK(m.wrong_image == 0);
     d.shear_offset += 0.02 * skin;
     CHECK(list.needs_rebuild(p, d, 1));
+}
+
+TEST_CASE("lees-edwards: contact history follows its pair when a grain is wrapped across the sheared boundary") {
+    // Two touching grains through the boundary; grain a drifts out through the top (unwrapped,
+    // as between rebuilds), the offset moves on, and the list is rebuilt: a is wrapped to the
+    // bottom with x shifted by the offset, the pair is now listed through another image, and its
+    // tangential spring and touching flag come with it; the separation is unchanged.
+    Domain d;
+    d.lo = {0, 0, 0};
+    d.hi = {kBox, kBox, kBox};
+    d.periodic = {true, true, true};
+    d.lees_edwards = true;
+    d.shear_offset = 11e-6;
+    d.shear_velocity = 0.4;
+    Particles p;
+    p.add({25e-6, 20e-6, kBox - 1e-6}, 2e-6, 7800, 0);            // a, near the top
+    p.add({25e-6 + 0.5e-6 - 11e-6, 20e-6, 2.6e-6}, 2e-6, 7800, 0);  // b, its image above touches a
+    NeighborList list(NeighborList::Settings{0.5e-6, 1.0, true});
+    list.build(p, d, 1);
+    auto pair_of = [&]() {
+        REQUIRE(list.pair_count() == 1);
+        const std::uint32_t owner = list.offsets[1] > 0 ? 0 : 1;
+        return std::make_pair(owner, list.offsets[owner]);
+    };
+    auto [owner, k] = pair_of();
+    const std::uint8_t image_before = list.image[k];
+    list.history[k].tangential = {1.25e-9, -2.5e-9, 0.5e-9};
+    list.touching[k] = 1;
+    const Vec3 sep_before = owner == 0 ? p.position[0] - p.position[1] + list.image_shift(image_before)
+                                       : p.position[1] - p.position[0] + list.image_shift(image_before);
+    p.position[0].z += 1.5e-6;  // a leaves through the top, b's image moves with it
+    p.position[1].z += 1.5e-6;
+    d.shear_offset += 0.1e-6;   // and the images slide
+    const Vec3 v_before = p.velocity[0];
+    list.build(p, d, 1);
+    CHECK(p.position[0].z == doctest::Approx(0.5e-6));                       // wrapped to the bottom
+    CHECK(p.position[0].x == doctest::Approx(25e-6 - d.shear_offset));       // x shifted by the offset
+    CHECK(p.velocity[0].x == doctest::Approx(v_before.x - d.shear_velocity));  // v_x by the image velocity
+    std::tie(owner, k) = pair_of();
+    CHECK(list.image[k] != image_before);
+    CHECK(list.touching[k] == 1);
+    CHECK(list.history[k].tangential.x == 1.25e-9);
+    CHECK(list.history[k].tangential.y == -2.5e-9);
+    const Vec3 sep_after = owner == 0 ? p.position[0] - p.position[1] + list.image_shift(list.image[k])
+                                      : p.position[1] - p.position[0] + list.image_shift(list.image[k]);
+    // The offset moved b's image by 0.1 um along x relative to a; nothing else changed.
+    CHECK(norm(sep_after - (sep_before - Vec3{0.1e-6, 0, 0})) < 1e-15);
 }
 
 }  // TEST_SUITE
