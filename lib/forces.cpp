@@ -32,7 +32,9 @@ double rolling_inertia_of(const Particles& p, std::size_t i) {
     return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
 }
 
-template <RollingModel Rolling, CohesionModel Cohesion>
+// Sliding: Lees-Edwards images, whose velocity enters the contact velocity (a template flag, so
+// the ordinary force loop does no work for it).
+template <RollingModel Rolling, CohesionModel Cohesion, bool Sliding>
 void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactStats& stats,
                     std::vector<Vec3>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
@@ -52,6 +54,7 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
     const double* __restrict range_sq = list.range_sq.data();
     std::uint8_t* __restrict touching = list.touching.data();
     ContactHistory* __restrict history = list.history.data();
+    const Vec3* __restrict image_velocity = list.image_velocities();
 
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 xi = x[i];
@@ -86,7 +89,9 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             if constexpr (Rolling == RollingModel::epsd) {
                 in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
             }
-            in.contact_velocity = v[i] - v[j] - cross(w[i] * ri + w[j] * rj, in.normal);
+            Vec3 dv = v[i] - v[j];
+            if constexpr (Sliding) dv += image_velocity[image[k]];
+            in.contact_velocity = dv - cross(w[i] * ri + w[j] * rj, in.normal);
             in.relative_spin = w[i] - w[j];
             in.wall = false;
             ContactOutput out;
@@ -182,7 +187,7 @@ void pair_damping_forces(System& s) {
             if (!list.touching[k]) continue;
             const std::uint32_t j = list.partners[k];
             if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
-            const Vec3 f = (p.velocity[i] - p.velocity[j]) * (-c);
+            const Vec3 f = (p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k])) * (-c);
             p.force[i] += f;
             p.force[j] -= f;
             if (p.raft[i] >= 0) s.rafts[p.raft[i]].force += f;
@@ -223,7 +228,8 @@ void compute_all(System& s, bool zero_first) {
         // per owner is roughly uniform for dense packings.
         const std::size_t begin = n * tid / nthreads, end = n * (tid + 1) / nthreads;
         if (s.physics.contact) {
-            grain_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
+            if (s.domain.lees_edwards) grain_contacts<Rolling, Cohesion, true>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
+            else grain_contacts<Rolling, Cohesion, false>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
             wall_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], wall_force[tid], b.raft_force[tid], begin, end);
         }
         if (s.physics.drag || s.physics.gravity) body_forces(s, f, begin, end);

@@ -15,7 +15,8 @@ namespace {
 //          neighbour-list displacement test.
 // The arithmetic per grain is the same whether the jobs are fused or not, so a run gives the
 // same bits however its steps are grouped. Returns the first bad grain, or n.
-template <bool Finish, bool Start>
+// Planar: a monolayer (a template flag, so the 3D pass carries no test for it).
+template <bool Finish, bool Start, bool Planar>
 std::size_t kick_pass(System& s, bool& rebuild) {
     Particles& p = s.particles;
     const double h = 0.5 * s.dt, dt = s.dt;
@@ -34,7 +35,25 @@ std::size_t kick_pass(System& s, bool& rebuild) {
     const bool stale = p.size() + 1 != s.contacts.offsets.size();
     int moved = 0;
     const Vec3* __restrict built = s.contacts.positions_at_build();
-    const double rebuild_sq = s.contacts.rebuild_displacement_sq();
+    if constexpr (Start) {
+        // The Lees-Edwards images slide with the drift below; the lists' image shifts follow.
+        if (s.domain.lees_edwards) {
+            s.domain.shear_offset += s.domain.shear_velocity * dt;
+            s.contacts.set_shear_offset(s.domain);
+            if (s.magnetic.enabled) s.magnetic.pairs.set_shear_offset(s.domain);
+        }
+    }
+    const double rebuild_sq = s.contacts.rebuild_displacement_sq(s.domain);
+    if (rebuild_sq < 0) moved = 1;  // the offset alone has used up the skin
+    // Monolayer: no out-of-plane velocity, spin only about the normal. Applied after each kick, so
+    // an out-of-plane force or initial velocity never moves a grain off its plane.
+    const int plane_normal = dom.monolayer_normal;
+    auto confine = [plane_normal](Vec3& vi, Vec3& wi) {
+        vi[plane_normal] = 0;
+        const double spin = wi[plane_normal];
+        wi = Vec3{};
+        wi[plane_normal] = spin;
+    };
     bool closed[3];
     bool any_closed = false;
     for (int k = 0; k < 3; ++k) any_closed |= (closed[k] = !dom.periodic[k]);
@@ -45,6 +64,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             if (free) {
                 v[i] += f[i] * (h / mass[i]);
                 w[i] += t[i] * (h / inertia[i]);
+                if constexpr (Planar) confine(v[i], w[i]);
             }
             // One sum is non-finite if any term is: a cheap test for NaN and infinity.
             const double sum = x[i].x + x[i].y + x[i].z + v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z;
@@ -60,6 +80,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
             if (free) {
                 v[i] += f[i] * (h / mass[i]);
                 w[i] += t[i] * (h / inertia[i]);
+                if constexpr (Planar) confine(v[i], w[i]);
             } else {  // prescribed rigid motion
                 v[i] = s.rafts[raft[i]].velocity;
                 w[i] = Vec3{};
@@ -81,6 +102,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
 // The magnetic list shares the contact list's skin and is rebuilt with it (after it, so the
 // positions are already wrapped into the box).
 void rebuild_neighbours(System& s) {
+    s.domain.wrap_shear_offset();
     s.contacts.build(s.particles, s.domain, s.threads);
     if (s.magnetic.enabled) s.magnetic.pairs.build(s.particles, s.domain, s.threads);
 }
@@ -139,14 +161,17 @@ void advance(System& s) { advance_steps(s, 1); }
 void advance_steps(System& s, long count) {
     if (count <= 0) return;
     bool rebuild = false;
-    kick_pass<false, true>(s, rebuild);
+    const bool planar = s.domain.monolayer_normal >= 0;
+    planar ? kick_pass<false, true, true>(s, rebuild) : kick_pass<false, true, false>(s, rebuild);
     for (long c = 0; c < count; ++c) {
         s.time += s.dt;
         ++s.step;
         if (rebuild) rebuild_neighbours(s);
         accumulate_forces(s);
         if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
-        const std::size_t bad = c + 1 < count ? kick_pass<true, true>(s, rebuild) : kick_pass<true, false>(s, rebuild);
+        const bool more = c + 1 < count;
+        const std::size_t bad = planar ? (more ? kick_pass<true, true, true>(s, rebuild) : kick_pass<true, false, true>(s, rebuild))
+                                       : (more ? kick_pass<true, true, false>(s, rebuild) : kick_pass<true, false, false>(s, rebuild));
         if (bad < s.particles.size()) fail_grain(s, bad);
     }
 }

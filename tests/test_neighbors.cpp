@@ -191,7 +191,7 @@ void check_list_survives_small_moves(Packed& s, std::uint64_t seed, const std::s
             step[i] = dir * (length / norm(dir));
         }
         for (std::size_t i = 0; i < n; ++i) s.particles.position[i] += step[i];
-        REQUIRE_FALSE(list.needs_rebuild(s.particles, 1));
+        REQUIRE_FALSE(list.needs_rebuild(s.particles, s.domain, 1));
         const Mismatch touching = compare_with_brute_force(list, s.particles, s.domain, true);
         MESSAGE(label << std::string(towards_nearest ? ", moved towards nearest" : ", moved randomly") << ": "
                       << touching.required << " touching pairs after the moves");
@@ -200,7 +200,7 @@ void check_list_survives_small_moves(Packed& s, std::uint64_t seed, const std::s
         CHECK(touching.wrong_image == 0);
         // A move past skin / 2 is noticed.
         s.particles.position[0] = at_build[0] + Vec3{0.5001 * s.skin, 0, 0};
-        CHECK(list.needs_rebuild(s.particles, 1));
+        CHECK(list.needs_rebuild(s.particles, s.domain, 1));
     }
 }
 

@@ -97,6 +97,29 @@ TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when ask
     CHECK(stray.err.find("/contact_damping") != std::string::npos);
 }
 
+TEST_CASE("shear cli: a monolayer cell runs end to end, with rafts and with Lees-Edwards boundaries") {
+    TempDir dir;
+    for (const char* boundaries : {"rafts", "lees_edwards"}) {
+        CAPTURE(boundaries);
+        json scene = small_scene(dir.file(std::string("out_") + boundaries));
+        scene["cell"] = {{"size", {"40 um", "6.7 um", "40 um"}}, {"monolayer", true}, {"boundaries", boundaries}};
+        if (std::string(boundaries) == "rafts") scene["cell"]["raft_thickness"] = "7 um";
+        scene["area_fraction"] = 0.6;
+        const Result r = shear(dir, std::string("mono_") + boundaries, scene, "--quiet");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file(std::string("mono_") + boundaries + "_report.json")));
+        const json& cell = rep["results"]["cell"];
+        CHECK(cell["monolayer"] == true);
+        CHECK(cell["stress_thickness_m"].get<double>() == doctest::Approx(6.7e-6));
+        // 0.6 of a 40 um square in 6.7 um discs: 0.6 x 1600 / 35.3 = 27 discs.
+        CHECK(cell["grains"].get<int>() == doctest::Approx(27).epsilon(0.1));
+        REQUIRE(rep["results"]["flow_curve"].size() == 3);
+        for (const auto& q : rep["results"]["flow_curve"]) CHECK(std::isfinite(q["stress_Pa"].get<double>()));
+        CHECK(rep["engine_scene"]["domain"]["monolayer"] == "y");
+    }
+}
+
 TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {
     TempDir dir;
     json base = small_scene(dir.file("out"));
@@ -128,14 +151,58 @@ TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix"
     }
     {
         json s = base;
+        s["cell"]["boundaries"] = "lees_edward";
+        expect_shear_refused(dir, "boundaries_typo", s, "/cell/boundaries");
+    }
+    {
+        json s = base;
+        s["cell"]["boundaries"] = "lees_edwards";  // keeps raft_thickness: a Lees-Edwards cell has no rafts
+        expect_shear_refused(dir, "rafts_with_lees_edwards", s, "/cell/raft_thickness");
+    }
+    json mono = base;
+    mono["cell"]["monolayer"] = true;
+    mono["cell"]["size"] = {"40 um", "6.7 um", "40 um"};
+    mono.erase("volume_fraction");
+    {
+        json s = mono;
+        s["volume_fraction"] = 0.3;
+        expect_shear_refused(dir, "monolayer_volume_fraction", s, "/volume_fraction");
+    }
+    {
+        json s = mono;
+        s["area_fraction"] = 0.9;
+        expect_shear_refused(dir, "monolayer_too_dense", s, "/area_fraction");
+    }
+    {
+        json s = mono;
+        s["field"]["direction"] = {0, 1, 0};
+        expect_shear_refused(dir, "monolayer_field_out_of_plane", s, "/field/direction");
+    }
+    {
+        json s = mono;
+        s["cell"]["size"] = {"40 um", "3 um", "40 um"};
+        expect_shear_refused(dir, "monolayer_too_thin", s, "/cell/size");
+    }
+    {
+        json s = base;
+        s["area_fraction"] = 0.5;
+        expect_shear_refused(dir, "area_fraction_in_3d", s, "/area_fraction");
+    }
+    {
+        json s = base;
         s["size"] = {{"distribution", "mixture"}, {"parts", {{{"share", 0}, {"size", {{"distribution", "single"}, {"diameter", "5 um"}}}}}}};
         expect_shear_refused(dir, "zero_share", s, "/size/parts");
     }
 }
 
-TEST_CASE("shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
-    TempDir dir;
-    json scene = small_scene(dir.file("out_full"));
+}  // TEST_SUITE
+
+namespace {
+
+// Runs the study whole, then again interrupted half way and resumed from its checkpoint: the
+// resumed study must not redo finished rates and must end bit for bit where the whole one ends.
+void check_resume_matches(const TempDir& dir, json scene) {
+    scene["output"]["directory"] = dir.file("out_full");
     scene["ladder"] = {{"shear_rates", {"3000 1/s", "2000 1/s", "1000 1/s", "500 1/s"}}, {"strain_first", 0.3}, {"strain_per_rate", 0.1}};
     const Result full = shear(dir, "full", scene, "--quiet");
     REQUIRE(full.exit_code == 0);
@@ -172,6 +239,31 @@ TEST_CASE("shear cli: an interrupted study resumes without redoing finished rate
     for (std::size_t k = 0; k < a["results"]["flow_curve"].size(); ++k) {
         CHECK(b["results"]["flow_curve"][k]["stress_Pa"] == a["results"]["flow_curve"][k]["stress_Pa"]);
         CHECK(b["results"]["flow_curve"][k]["bulk_stress_Pa"] == a["results"]["flow_curve"][k]["bulk_stress_Pa"]);
+    }
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
+    TempDir dir;
+    check_resume_matches(dir, small_scene(""));
+}
+
+TEST_CASE("shear cli: an interrupted Lees-Edwards study resumes bit for bit (the checkpoint carries the sliding offset)") {
+    TempDir dir;
+    json scene = small_scene("");
+    scene["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"boundaries", "lees_edwards"}};
+    check_resume_matches(dir, scene);
+    const json rep = json::parse(slurp(dir.file("full_report.json")));
+    CHECK(rep["results"]["cell"]["boundaries"] == "lees_edwards");
+    CHECK(rep["results"]["cell"]["gap_m"].get<double>() == doctest::Approx(40e-6));
+    if (rep["results"]["cell"].contains("rafts")) CHECK(rep["results"]["cell"]["rafts"].empty());
+    for (const auto& q : rep["results"]["flow_curve"]) {
+        CHECK(q["stress_source"] == "virial of the Lees-Edwards box");
+        CHECK(q["stress_Pa"] == q["bulk_stress_Pa"]);
+        CHECK_FALSE(q.contains("lower_raft_stress_Pa"));
     }
 }
 

@@ -14,3 +14,5 @@ for tier in quick standard paper; do run ${tier}_seed1 examples/shear_trendler_0
 run quick_seed2 bench/shear/seed2.json quick
 run standard_seed2 bench/shear/seed2.json standard
 for v in saturation no_rolling monodisperse volume_reading density10 field_sweep; do run quick_$v bench/shear/$v.json quick; done
+# Lees-Edwards boundaries and monolayer cells (docs/shear.md, about 12 minutes).
+for v in lees_edwards lees_edwards_seed2 monolayer monolayer_lees_edwards; do run quick_$v bench/shear/$v.json quick; done

@@ -55,6 +55,26 @@ private:
     Vec3 v_lower_, v_upper_;
 };
 
+// The affine simple shear of a Lees-Edwards cell: u = rate (x[gradient] - centre) along `flow_axis`,
+// unbounded, so a grain that has crossed the sliding boundary but is not yet wrapped still sees
+// the flow its images see (u jumps by rate L exactly where the wrap changes its velocity by as much).
+class SimpleShearFlow final : public FlowField {
+public:
+    SimpleShearFlow(int flow_axis, int gradient_axis, double rate, double centre)
+        : flow_(flow_axis), gradient_(gradient_axis), rate_(rate), centre_(centre) {}
+    Vec3 velocity(const Vec3& x, double) const override {
+        Vec3 u{};
+        u[flow_] = rate_ * (x[gradient_] - centre_);
+        return u;
+    }
+    std::string name() const override { return "simple_shear"; }
+    double shear_rate() const { return rate_; }
+
+private:
+    int flow_, gradient_;
+    double rate_, centre_;
+};
+
 // Flow along a tube axis: centreline speed u(s) tabulated along the axis coordinate s (linear
 // interpolation, constant beyond the ends; one point gives a constant), with a parabolic
 // (Poiseuille) or plug shape across a radius that may also vary with s. Zero outside the tube.

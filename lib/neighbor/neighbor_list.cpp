@@ -101,7 +101,10 @@ bool owns(const Particles& p, std::uint32_t i, std::uint32_t j) {
 void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     const std::size_t n = p.size();
     const Vec3 len = domain.length();
-    for (std::size_t i = 0; i < n; ++i) domain.wrap(p.position[i]);
+    // y may be closed (a monolayer, or walls along y): the sliding only couples x and z.
+    if (domain.lees_edwards && !(domain.periodic[0] && domain.periodic[2]))
+        throw std::runtime_error("Lees-Edwards boundaries need a box periodic along x (flow) and z (gradient)");
+    for (std::size_t i = 0; i < n; ++i) domain.wrap(p.position[i], p.velocity[i]);
 
     double r_max = 0, r_sum = 0;
     for (std::size_t i = 0; i < n; ++i) { r_max = std::max(r_max, p.radius[i]); r_sum += p.radius[i]; }
@@ -118,7 +121,12 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     for (int a = 0; a < 27; ++a) {
         const int w[3] = {a % 3 - 1, (a / 3) % 3 - 1, a / 9 - 1};
         shifts_[a] = {w[0] * len.x, w[1] * len.y, w[2] * len.z};
+        base_shift_x_[a] = shifts_[a].x;
+        velocity_shifts_[a] = Vec3{};
     }
+    offset_at_build_ = domain.shear_offset;
+    set_shear_offset(domain);
+    const bool sliding = domain.lees_edwards;
 
     const CellGrid grid = bin(p, domain, std::max(pair_cutoff(r_mean, r_mean), 1e-300));
 
@@ -146,7 +154,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
         const std::size_t begin = n * t / nthreads, end = n * (t + 1) / nthreads;
         Chunk& ch = chunks[t];
         ch.count.assign(end - begin, 0);
-        AxisRange rx, ry, rz;
+        AxisRange rx, ry, rz, rx_sliding;
         for (std::size_t ii = begin; ii < end; ++ii) {
             const auto i = static_cast<std::uint32_t>(ii);
             const Vec3 xi = p.position[i];
@@ -157,20 +165,47 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
             axis_range(c[0], static_cast<int>(std::ceil(reach_len / grid.size[0])), grid.count[0], domain.periodic[0], rx);
             axis_range(c[1], static_cast<int>(std::ceil(reach_len / grid.size[1])), grid.count[1], domain.periodic[1], ry);
             axis_range(c[2], static_cast<int>(std::ceil(reach_len / grid.size[2])), grid.count[2], domain.periodic[2], rz);
-            for (int az = 0; az < rz.n; ++az)
+            const int reach_x = static_cast<int>(std::ceil(reach_len / grid.size[0]));
+            for (int az = 0; az < rz.n; ++az) {
+                // Lees-Edwards: across the z boundary the partners' images sit shifted along x by
+                // the offset, so the x stencil is centred on x_i - offset (one cell wider: the
+                // shift is not a whole number of cells) and the x image is chosen per pair.
+                AxisRange* xs = &rx;
+                if (sliding && rz.wrap[az] != 0) {
+                    if (rz.wrap[az] == 2) {
+                        axis_range(0, grid.count[0], grid.count[0], true, rx_sliding);
+                    } else {
+                        const double centre = xi.x - rz.wrap[az] * domain.shear_offset;
+                        const double wrapped = centre - len.x * std::floor((centre - domain.lo.x) / len.x);
+                        axis_range(grid.axis_cell(wrapped, 0), reach_x + 1, grid.count[0], true, rx_sliding);
+                        for (int a = 0; a < rx_sliding.n; ++a) rx_sliding.wrap[a] = 2;
+                    }
+                    xs = &rx_sliding;
+                }
                 for (int ay = 0; ay < ry.n; ++ay)
-                    for (int ax = 0; ax < rx.n; ++ax) {
-                        const std::uint32_t cell = grid.cell_index(rx.cell[ax], ry.cell[ay], rz.cell[az]);
+                    for (int ax = 0; ax < xs->n; ++ax) {
+                        const std::uint32_t cell = grid.cell_index(xs->cell[ax], ry.cell[ay], rz.cell[az]);
                         for (std::uint32_t s = grid.start[cell]; s < grid.start[cell + 1]; ++s) {
                             const std::uint32_t j = grid.order[s];
                             if (!owns(p, i, j)) continue;
                             // Separation x_i - x_j with the image the stencil implies.
                             Vec3 d = xi - p.position[j];
-                            int w[3] = {rx.wrap[ax], ry.wrap[ay], rz.wrap[az]};
-                            for (int k = 0; k < 3; ++k) {
-                                if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
-                                // x_i - (x_j + w L): the partner image sits w periods away.
-                                d[k] -= w[k] * len[k];
+                            int w[3] = {xs->wrap[ax], ry.wrap[ay], rz.wrap[az]};
+                            if (sliding) {
+                                // z first: the z image decides the x shift of the partner.
+                                if (w[2] == 2) w[2] = static_cast<int>(std::nearbyint(d.z / len.z));
+                                d.z -= w[2] * len.z;
+                                d.x -= w[2] * domain.shear_offset;
+                                for (int k = 0; k < 2; ++k) {
+                                    if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
+                                    d[k] -= w[k] * len[k];
+                                }
+                            } else {
+                                for (int k = 0; k < 3; ++k) {
+                                    if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
+                                    // x_i - (x_j + w L): the partner image sits w periods away.
+                                    d[k] -= w[k] * len[k];
+                                }
                             }
                             const double cut = pair_cutoff(ri, p.radius[j]);
                             if (norm2(d) >= cut * cut) continue;
@@ -190,6 +225,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             ++ch.count[ii - begin];
                         }
                     }
+            }
         }
     }
 
@@ -212,9 +248,10 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     ++builds_;
 }
 
-bool NeighborList::needs_rebuild(const Particles& p, int threads) const {
+bool NeighborList::needs_rebuild(const Particles& p, const Domain& domain, int threads) const {
     if (position_at_build_.size() != p.size()) return true;
-    const double limit2 = 0.25 * settings_.skin * settings_.skin;
+    const double limit2 = rebuild_displacement_sq(domain);
+    if (limit2 < 0) return true;
     const std::size_t n = p.size();
     int moved = 0;
 #pragma omp parallel for reduction(| : moved) schedule(static) num_threads(threads)
@@ -237,6 +274,9 @@ void NeighborList::save(std::ostream& out) const {
     binary::put_vector(out, range_sq);
     binary::put_vector(out, position_at_build_);
     for (const Vec3& s : shifts_) binary::put(out, s);
+    for (const Vec3& s : velocity_shifts_) binary::put(out, s);
+    for (double s : base_shift_x_) binary::put(out, s);
+    binary::put(out, offset_at_build_);
     binary::put(out, builds_);
 }
 
@@ -250,6 +290,9 @@ void NeighborList::load(std::istream& in) {
     binary::get_vector(in, range_sq);
     binary::get_vector(in, position_at_build_);
     for (Vec3& s : shifts_) s = binary::get<Vec3>(in);
+    for (Vec3& s : velocity_shifts_) s = binary::get<Vec3>(in);
+    for (double& s : base_shift_x_) s = binary::get<double>(in);
+    offset_at_build_ = binary::get<double>(in);
     builds_ = binary::get<long>(in);
 }
 

@@ -11,6 +11,13 @@
 // the periodic image shift of a pair is fixed between rebuilds and stored with it (no
 // minimum-image arithmetic in the force loop). Rebuild when any grain has moved more than
 // skin / 2 since the last build.
+//
+// Lees-Edwards: the images across z are displaced along x by the domain's shear offset, which
+// moves between rebuilds. The shift table follows it each step (set_shear_offset), so a pair's
+// stored image code stays valid; pairs through the z boundary are found at build time with the
+// offset applied before the x minimum image. Their separation drifts by the offset's change, so
+// the rebuild criterion is 2 max|dx| + |d offset| > skin (rebuild_displacement_sq(offset)).
+#include <cmath>
 #include <cstdint>
 #include <iosfwd>
 #include <vector>
@@ -43,11 +50,25 @@ public:
     // too short for the cutoff (the minimum image would be ambiguous).
     void build(Particles& p, const Domain& domain, int threads);
 
-    bool needs_rebuild(const Particles& p, int threads) const;
+    bool needs_rebuild(const Particles& p, const Domain& domain, int threads) const;
     // Positions at the last build and the squared displacement that forces a rebuild, for passes
-    // that already touch every position and test each grain themselves.
+    // that already touch every position and test each grain themselves. Under Lees-Edwards the
+    // offset's change since the build eats into the skin (negative: rebuild now).
     const Vec3* positions_at_build() const { return position_at_build_.data(); }
-    double rebuild_displacement_sq() const { return 0.25 * settings_.skin * settings_.skin; }
+    double rebuild_displacement_sq(const Domain& domain) const {
+        double half = 0.5 * settings_.skin;
+        if (domain.lees_edwards) half -= 0.5 * std::abs(domain.shear_offset - offset_at_build_);
+        return half > 0 ? half * half : -1.0;
+    }
+    // Moves the images across z to the domain's current Lees-Edwards offset and velocity.
+    void set_shear_offset(const Domain& domain) {
+        for (int a = 0; a < 27; ++a) {
+            const int wz = a / 9 - 1;
+            if (wz == 0) continue;
+            shifts_[a].x = base_shift_x_[a] + wz * domain.shear_offset;
+            velocity_shifts_[a].x = wz * domain.shear_velocity;
+        }
+    }
 
     // Pair k of owner i: k in [offsets[i], offsets[i+1]).
     std::vector<std::uint32_t> offsets;
@@ -62,6 +83,10 @@ public:
     // test reads the list sequentially instead of fetching the partner's radius.
     std::vector<double> range_sq;
     const Vec3& image_shift(std::uint8_t code) const { return shifts_[code]; }
+    // Added to v_i - v_j: the partner's image velocity (non-zero only for Lees-Edwards images
+    // across z), so contact damping and friction see the true relative velocity.
+    const Vec3& image_velocity(std::uint8_t code) const { return velocity_shifts_[code]; }
+    const Vec3* image_velocities() const { return velocity_shifts_; }
 
     std::size_t pair_count() const { return partners.size(); }
 
@@ -75,6 +100,9 @@ private:
     Settings settings_;
     std::vector<Vec3> position_at_build_;
     Vec3 shifts_[27];
+    Vec3 velocity_shifts_[27] = {};
+    double base_shift_x_[27] = {};  // x shift without the Lees-Edwards offset
+    double offset_at_build_ = 0;
     long builds_ = 0;
 };
 

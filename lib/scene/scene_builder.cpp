@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "geometry/disc_packing.hpp"
 #include "geometry/packing.hpp"
 #include "scene/scene.hpp"
 #include "scene/fidelity.hpp"
@@ -29,6 +30,13 @@ Domain read_domain(SceneNode node) {
         if (!(d.hi[k] > d.lo[k])) node.fail("hi", "each component must exceed the matching component of lo");
     const auto flags = node.axis_flags("periodic", std::vector<bool>{false, false, false});
     for (int k = 0; k < 3; ++k) d.periodic[k] = flags[k];
+    const std::string mono = node.choice("monolayer", {"none", "x", "y", "z"}, "none");
+    if (mono != "none") {
+        d.monolayer_normal = mono[0] - 'x';
+        if (d.periodic[d.monolayer_normal])
+            node.fail("monolayer", "a monolayer's normal axis (" + mono + ") must not be periodic: the layer is one grain thick "
+                                   "and needs no images; drop " + mono + " from /domain/periodic");
+    }
     node.finish();
     return d;
 }
@@ -98,11 +106,18 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     const std::uint16_t mat = material_index(node, "material", names, names.front());
     SizeDistribution sizes = read_size_distribution(node.object("size"));
     SceneNode place = node.object("placement");
-    const std::string method = place.choice("method", {"random", "lattice", "list"}, "random");
+    const int mono = s.domain.monolayer_normal;
+    const std::string method = place.choice("method", {"random", "lattice", "list", "monolayer"}, mono >= 0 ? "monolayer" : "random");
+    if (mono >= 0 && (method == "random" || method == "lattice"))
+        place.fail("method", "the domain is a monolayer (/domain/monolayer): place grains with \"monolayer\" (a random packing "
+                             "of discs in its plane) or \"list\"");
+    if (mono < 0 && method == "monolayer")
+        place.fail("method", "\"monolayer\" placement needs a monolayer domain: set /domain/monolayer to the normal axis, e.g. \"y\"");
     // A grain must fit in the box on every axis; on a periodic axis it must also leave room for
-    // the minimum image (checked with the neighbour cutoff in build_scene).
+    // the minimum image (checked with the neighbour cutoff in build_scene). A monolayer's
+    // thickness may equal the largest diameter.
     for (int k = 0; k < 3; ++k)
-        if (sizes.max_diameter() >= s.domain.length()[k])
+        if (k == mono ? sizes.max_diameter() > s.domain.length()[k] : sizes.max_diameter() >= s.domain.length()[k])
             node.fail("size", "the largest grain (" + fmt(sizes.max_diameter()) + " m) does not fit in the box (" +
                                   fmt(s.domain.length()[k]) + " m along " + char('x' + k) + "); enlarge /domain");
     const Vec3 spin = node.vector("angular_velocity", units::frequency, Vec3{});
@@ -131,6 +146,25 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
                 place.fail("volume_fraction", e.what());
             }
         }
+    } else if (method == "monolayer") {
+        const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
+        if (phi > kRandomClosePackingDiscs)
+            place.fail("area_fraction", "cannot exceed random close packing of discs, " + fmt(kRandomClosePackingDiscs) +
+                                            "; lower it (0.5 is a loose monolayer)");
+        PackingOptions opt;
+        opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+        place.finish();
+        if (insert) {
+            try {
+                const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
+                spheres = r.discs;
+                if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
+                    scene.warnings.push_back(node.path() + ": packed area fraction " + fmt(r.achieved_area_fraction) +
+                                             " differs from the requested " + fmt(phi));
+            } catch (const std::exception& e) {
+                place.fail("area_fraction", e.what());
+            }
+        }
     } else if (method == "lattice") {
         if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
             node.fail("size", "lattice placement needs a single grain size");
@@ -155,6 +189,9 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
             const Vec3 centre = item.vector(index, units::length, std::nullopt);
             // On a closed axis a centre outside the box is a grain the first step would stop on
             // as "left the box"; say so here, with the position's path.
+            if (mono >= 0 && std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) > 1e-9 * s.domain.length()[mono])
+                item.fail(index, std::string("a monolayer's grains lie in its mid-plane: set the ") + char('x' + mono) +
+                                     " coordinate to " + fmt(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) + " m");
             for (int k = 0; k < 3; ++k)
                 if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
                     item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +

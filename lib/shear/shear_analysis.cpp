@@ -27,8 +27,13 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
         }
         r["magnetisation"] = main->value("magnetisation", nlohmann::json());
         r["cell"] = {{"size_m", {spec.cell.x, spec.cell.y, spec.cell.z}}, {"raft_thickness_m", spec.raft_thickness},
-                     {"gap_m", spec.gap()}, {"grains", (*main)["grains"]}, {"timestep_s", (*main)["timestep_s"]}};
+                     {"gap_m", spec.gap()},
+                     {"boundaries", spec.lees_edwards ? "lees_edwards" : "rafts"}, {"monolayer", spec.monolayer}, {"grains", (*main)["grains"]}, {"timestep_s", (*main)["timestep_s"]}};
         if (main->contains("rafts")) r["cell"]["rafts"] = (*main)["rafts"];
+        if (spec.monolayer) {
+            r["cell"]["area_fraction"] = spec.area_fraction;
+            r["cell"]["stress_thickness_m"] = spec.cell.y;  // stresses are per X Y (Y: the layer's stated thickness)
+        }
         r["stress_series_upper_Pa"] = nlohmann::json::array();
         for (const auto& q : (*main)["rates"])
             r["stress_series_upper_Pa"].push_back({{"rate_1_s", q["rate_1_s"]}, {"samples", q["series_upper_Pa"]}});

@@ -136,6 +136,9 @@ private:
         build.threads = options_.threads;
         try {
             scene_ = std::make_unique<Scene>(build_scene(engine_scene(spec_, cells_[c].flux_density), build));
+            // Lees-Edwards: the box built periodic in z starts sliding (offset 0, at rest until
+            // the first rate); a checkpoint carries the flag and the offset.
+            scene_->system.domain.lees_edwards = spec_.lees_edwards;
             choose_timestep(*scene_);
         } catch (const SceneError& e) {
             rethrow_as_shear(e);
@@ -145,9 +148,10 @@ private:
         // Chains must span several grains between the rafts, or the cell measures single grains
         // wedged between two walls.
         if (spec_.gap() < 2.5 * d_max)
-            throw SceneError("/cell/size", "the gap between the rafts (" + std::to_string(spec_.gap() * 1e6) +
-                                               " um) must hold at least 2.5 of the largest grain drawn (" + std::to_string(d_max * 1e6) +
-                                               " um); make the cell higher or the rafts thinner (/cell/raft_thickness)");
+            throw SceneError("/cell/size", (spec_.lees_edwards ? "the height of the Lees-Edwards cell (" : "the gap between the rafts (") +
+                                               std::to_string(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
+                                               std::to_string(d_max * 1e6) + " um); make the cell higher" +
+                                               (spec_.lees_edwards ? "" : " or the rafts thinner (/cell/raft_thickness)"));
         prepare(scene_->system);
     }
 
@@ -278,6 +282,7 @@ private:
     void freeze() {
         System& s = scene_->system;
         s.rafts.clear();
+        if (spec_.lees_edwards) return;  // no rafts: the sliding images shear the cell
         s.rafts.push_back(Raft{"lower", {}, {}, 0});
         s.rafts.push_back(Raft{"upper", {}, {}, 0});
         for (std::size_t i = 0; i < s.particles.size(); ++i) {
@@ -292,6 +297,13 @@ private:
     // Settings of rate k (re-applied on resume: the checkpoint does not hold the flow).
     void apply_rate(double v) {
         System& s = scene_->system;
+        if (spec_.lees_edwards) {
+            // The image above moves at rate Z = 2 v (v = rate Z / 2, the "wall speed" of the
+            // ladder); the fluid follows the affine profile through the whole periodic height.
+            s.domain.shear_velocity = 2 * v;
+            s.flow = std::make_shared<SimpleShearFlow>(0, 2, 2 * v / spec_.cell.z, 0.5 * spec_.cell.z);
+            return;
+        }
         s.rafts[0].velocity = Vec3{-v, 0, 0};
         s.rafts[1].velocity = Vec3{v, 0, 0};
         for (Wall& w : s.walls) w.velocity = Vec3{w.name == "top" ? v : -v, 0, 0};
@@ -325,10 +337,16 @@ private:
             // A sample due at this step is taken even when Ctrl-C came, before the checkpoint:
             // the resumed run starts past it and would otherwise lose it.
             if (i % every == 0 || i == total) {
-                const ShearStress st = shear_stress(s, 1, 0, wall_index("top"), wall_index("bottom"), spec_.raft_thickness,
-                                                    spec_.cell.z - spec_.raft_thickness);
+                ShearStress st;
+                if (spec_.lees_edwards) {
+                    // No rafts: the flow-curve stress is the virial of the whole periodic box.
+                    st.bulk = st.upper = lees_edwards_stress(s);
+                } else {
+                    st = shear_stress(s, 1, 0, wall_index("top"), wall_index("bottom"), spec_.raft_thickness,
+                                      spec_.cell.z - spec_.raft_thickness);
+                }
                 cur["samples"]["upper"].push_back(st.upper);
-                cur["samples"]["lower"].push_back(st.lower);
+                if (!spec_.lees_edwards) cur["samples"]["lower"].push_back(st.lower);
                 cur["samples"]["bulk"].push_back(st.bulk);
             }
             if (!ok) return false;
@@ -338,17 +356,23 @@ private:
             const std::size_t keep = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(all.size() * spec_.window_fraction)));
             return block_average(std::vector<double>(all.end() - std::min(keep, all.size()), all.end()), spec_.blocks);
         };
-        const BlockAverage up = window("upper"), lo = window("lower"), bulk = window("bulk");
-        cur["rates"].push_back({{"rate_1_s", plan.rates[k]}, {"wall_speed_m_s", plan.wall_speeds[k]}, {"steps", total},
-                                {"strain", total * s.dt * plan.rates[k]}, {"sample_every_steps", every},
-                                {"stress_Pa", up.mean}, {"error_Pa", up.error}, {"blocks", up.blocks}, {"samples_averaged", up.samples},
-                                {"lower_raft_stress_Pa", lo.mean}, {"lower_raft_error_Pa", lo.error},
-                                {"bulk_stress_Pa", bulk.mean}, {"bulk_error_Pa", bulk.error},
-                                {"series_upper_Pa", cur["samples"]["upper"]}, {"max_overlap_ratio_seen", max_overlap_},
-                                {"wall_time_s", seconds_since(t_rate)}});
+        const BlockAverage up = window("upper"), bulk = window("bulk");
+        nlohmann::json rate = {{"rate_1_s", plan.rates[k]}, {"wall_speed_m_s", plan.wall_speeds[k]}, {"steps", total},
+                               {"strain", total * s.dt * plan.rates[k]}, {"sample_every_steps", every},
+                               {"stress_Pa", up.mean}, {"error_Pa", up.error}, {"blocks", up.blocks}, {"samples_averaged", up.samples},
+                               {"stress_source", spec_.lees_edwards ? "virial of the Lees-Edwards box" : "upper raft"},
+                               {"bulk_stress_Pa", bulk.mean}, {"bulk_error_Pa", bulk.error},
+                               {"series_upper_Pa", cur["samples"]["upper"]}, {"max_overlap_ratio_seen", max_overlap_},
+                               {"wall_time_s", seconds_since(t_rate)}};
+        if (!spec_.lees_edwards) {
+            const BlockAverage lo = window("lower");
+            rate["lower_raft_stress_Pa"] = lo.mean;
+            rate["lower_raft_error_Pa"] = lo.error;
+        }
+        cur["rates"].push_back(rate);
         if (options_.progress)
-            std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (lower raft %.4g, bulk %.4g)\n", options_.label.c_str(),
-                         plan.rates[k], up.mean * 1e-3, up.error * 1e-3, lo.mean * 1e-3, bulk.mean * 1e-3);
+            std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(), plan.rates[k],
+                         up.mean * 1e-3, up.error * 1e-3, spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
         return true;
     }
 

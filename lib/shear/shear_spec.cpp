@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "geometry/disc_packing.hpp"
 #include "geometry/size_distribution.hpp"
 #include "scene/scene_node.hpp"
 
@@ -106,20 +107,46 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     root.text("description", "");
     s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
 
+    // Sizes first: a monolayer's default thickness is the largest diameter.
+    SizeDistribution sizes = read_sizes(root.object("size"), s.size_table);
+    s.largest_diameter = sizes.max_diameter();
     {
         json in = json::object();
         auto given = root.optional_object("cell");
         SceneNode cell = given ? *given : SceneNode(in, s.resolved["cell"], "/cell");
-        s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, tier.cell_size, tier.cell_size}, Bounds::positive());
-        s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+        // A monolayer: one layer of grains with centres in the x-z plane (shear and gradient),
+        // `size` y its thickness for the stress, by default the largest diameter.
+        s.monolayer = cell.boolean("monolayer", false);
+        const double thickness = s.monolayer ? s.largest_diameter : tier.cell_size;
+        s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, thickness, tier.cell_size}, Bounds::positive());
+        if (s.monolayer && s.cell.y < s.largest_diameter)
+            cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
+                                  fmt_um(s.largest_diameter) + "); it is the thickness the stress is divided by, usually the largest diameter");
+        s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
+        if (s.lees_edwards) {
+            if (cell.has("raft_thickness"))
+                cell.fail("raft_thickness", "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
+                                            "(remove raft_thickness or use rafts)");
+            s.raft_thickness = 0;
+        } else {
+            s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+        }
         if (!(s.gap() > 0))
             cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) + " each) leave no gap in a cell " +
                                             fmt_um(s.cell.z) + " high; thin the rafts or raise the cell");
         cell.finish();
     }
-    s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
-    SizeDistribution sizes = read_sizes(root.object("size"), s.size_table);
-    s.largest_diameter = sizes.max_diameter();
+    if (s.monolayer) {
+        if (root.has("volume_fraction"))
+            root.fail("volume_fraction", "a monolayer is filled by area: give \"area_fraction\" (default 0.5, at most 0.84) instead");
+        s.area_fraction = root.number("area_fraction", 0.5, Bounds::open_closed(0.0, 1.0));
+        if (s.area_fraction > kRandomClosePackingDiscs)
+            root.fail("area_fraction", "discs cannot be packed at random above 0.84 of the plane (random close packing); lower it");
+    } else {
+        if (root.has("area_fraction"))
+            root.fail("area_fraction", "is used only for a monolayer (\"cell\": {\"monolayer\": true}); a 3D cell takes \"volume_fraction\"");
+        s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
+    }
 
     {
         SceneNode mat = root.object("material");
@@ -170,6 +197,9 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         const Vec3 dir = f.vector("direction", units::dimensionless, Vec3{0, 0, 1});
         if (norm(dir) == 0) f.fail("direction", "must be a non-zero vector (the source's field is along z, [0, 0, 1])");
         s.field_direction = dir / norm(dir);
+        // The dipoles of a monolayer must lie in its plane, or they would pull grains out of it.
+        if (s.monolayer && std::abs(s.field_direction.y) > 1e-12)
+            f.fail("direction", "a monolayer lies in the x-z plane: the field must too (y component 0, e.g. [0, 0, 1])");
         f.finish();
     }
     {
@@ -323,6 +353,18 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
         {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
                     {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
     scene["run"]["steps"] = 0;
+    if (s.monolayer) {
+        // Centres in the mid-plane y = Y/2, no y images, no y walls: the integrator holds them there.
+        scene["domain"]["periodic"] = "x";
+        scene["domain"]["monolayer"] = "y";
+        scene["grains"][0]["placement"] = {{"method", "monolayer"}, {"area_fraction", s.area_fraction}};
+    }
+    if (s.lees_edwards) {
+        // Periodic in z too: the sliding images replace the walls (shear_cell.cpp switches the
+        // domain to Lees-Edwards; the random packing sees an ordinary periodic box).
+        scene["domain"]["periodic"] = s.monolayer ? "xz" : "xyz";
+        scene.erase("walls");
+    }
     if (s.dissipation == "contact_damping") {
         scene.erase("fluid");
         scene["contact"]["pair_damping"] = s.contact_damping;
@@ -341,6 +383,7 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
 std::string shear_path_of(const std::string& p) {
     const std::pair<const char*, const char*> map[] = {
         {"/materials/0", "/material"}, {"/grains/0/size", "/size"}, {"/grains/0/placement/volume_fraction", "/volume_fraction"},
+        {"/grains/0/placement/area_fraction", "/area_fraction"},
         {"/grains/0", "/size"}, {"/domain", "/cell/size"}, {"/magnetic/field", "/field"}, {"/magnetic", "/magnetic"},
         {"/run", "/run"}, {"/output", "/output"}};
     for (const auto& [from, to] : map)

@@ -18,9 +18,14 @@ struct ShearSpec {
     std::string tier;
     std::uint64_t seed = 1;
 
-    Vec3 cell{};                  // m; x, y periodic, z between the walls
-    double raft_thickness = 0;    // m, frozen layer at the bottom and at the top
+    Vec3 cell{};                  // m; x, y periodic, z between the walls (or periodic, Lees-Edwards)
+    // "rafts": frozen layers against two walls carry the shear (the source's cell);
+    // "lees_edwards": periodic in z too, the images across z slide at rate * Z (no walls, no rafts).
+    bool lees_edwards = false;
+    double raft_thickness = 0;    // m, frozen layer at the bottom and at the top (0 with Lees-Edwards)
     double volume_fraction = 0.3;
+    bool monolayer = false;       // one layer of grains in the x-z plane (y: thickness, not periodic)
+    double area_fraction = 0.5;   // a monolayer's disc area / plane area
     nlohmann::json size_table;    // engine "size" object (number table, or single)
     double largest_diameter = 0;  // of the distribution (for the thickness check)
     nlohmann::json material;      // engine material, scaled
@@ -60,6 +65,7 @@ struct ShearSpec {
     double progress_interval = 5;
     double checkpoint_every_seconds = 600;
 
+    // The sheared height: between the rafts' inner faces, or the whole period with Lees-Edwards.
     double gap() const { return cell.z - 2 * raft_thickness; }
 };
 

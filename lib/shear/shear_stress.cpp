@@ -11,10 +11,11 @@ double rolling_inertia_of(const Particles& p, std::size_t i) {
     return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
 }
 
-// Sum over touching grain pairs with a free grain of (z_i - z_j) f_ij,x, re-evaluating each
-// contact law on a copy of its history (the state is not changed).
-template <RollingModel Rolling, CohesionModel Cohesion>
-double contact_moment(const System& s) {
+// Sum over touching grain pairs with a free grain of weight(d, image) f_ij,x, re-evaluating each
+// contact law on a copy of its history (the state is not changed). The weight is d_z = z_i - z_j
+// for the virial, or which side of the sliding boundary the pair spans for the plane stress.
+template <RollingModel Rolling, CohesionModel Cohesion, class Weight>
+double contact_moment(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.contacts;
     double sum = 0;
@@ -35,42 +36,53 @@ double contact_moment(const System& s) {
             in.reduced_radius = ri * rj / (ri + rj);
             in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
             in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
-            in.contact_velocity = p.velocity[i] - p.velocity[j] - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
+            const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
+            in.contact_velocity = dv - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
             in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
             in.wall = false;
             ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
             ContactOutput out;
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
-            sum += d.z * out.force_on_i.x;
-            if (s.physics.pair_damping > 0) sum += d.z * (-s.physics.pair_damping * (p.velocity[i].x - p.velocity[j].x));
+            const double wgt = weight(d, list.image[k]);
+            sum += wgt * out.force_on_i.x;
+            if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
         }
     }
     return sum;
 }
 
-template <RollingModel Rolling>
-double contact_moment_cohesion(const System& s) {
+template <RollingModel Rolling, class Weight>
+double contact_moment_cohesion(const System& s, Weight w) {
     switch (s.physics.cohesion) {
-        case CohesionModel::none: return contact_moment<Rolling, CohesionModel::none>(s);
-        case CohesionModel::sjkr: return contact_moment<Rolling, CohesionModel::sjkr>(s);
-        case CohesionModel::dmt: return contact_moment<Rolling, CohesionModel::dmt>(s);
+        case CohesionModel::none: return contact_moment<Rolling, CohesionModel::none>(s, w);
+        case CohesionModel::sjkr: return contact_moment<Rolling, CohesionModel::sjkr>(s, w);
+        case CohesionModel::dmt: return contact_moment<Rolling, CohesionModel::dmt>(s, w);
     }
     return 0;
 }
 
-double contact_moment_any(const System& s) {
+template <class Weight>
+double contact_moment_any(const System& s, Weight w) {
     if (!s.physics.contact) return 0;
     switch (s.physics.rolling) {
-        case RollingModel::none: return contact_moment_cohesion<RollingModel::none>(s);
-        case RollingModel::epsd: return contact_moment_cohesion<RollingModel::epsd>(s);
-        case RollingModel::sds: return contact_moment_cohesion<RollingModel::sds>(s);
+        case RollingModel::none: return contact_moment_cohesion<RollingModel::none>(s, w);
+        case RollingModel::epsd: return contact_moment_cohesion<RollingModel::epsd>(s, w);
+        case RollingModel::sds: return contact_moment_cohesion<RollingModel::sds>(s, w);
     }
     return 0;
 }
+
+double separation_z(const Vec3& d, std::uint8_t) { return d.z; }
+
+// +1 when the pair reaches through the sliding boundary with the owner below it (the partner's
+// image above), -1 with the owner above: the sign that turns f_on_owner into the force on the
+// lower grain from the upper one.
+double across_boundary(const Vec3&, std::uint8_t image) { return -(image / 9 - 1); }
 
 // The same sum for the magnetic pairs, with the dipole-dipole force of eq. 4.8 (the moments are
 // the ones the last force evaluation used, up to the lagged update that followed it).
-double magnetic_moment_sum(const System& s) {
+template <class Weight>
+double magnetic_moment_sum(const System& s, Weight weight) {
     if (!s.magnetic.enabled) return 0;
     const Particles& p = s.particles;
     const NeighborList& list = s.magnetic.pairs;
@@ -86,7 +98,7 @@ double magnetic_moment_sum(const System& s) {
             const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
             const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
             const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
-            sum += d.z * force.x;
+            sum += weight(d, list.image[k]) * force.x;
         }
     }
     return sum;
@@ -116,8 +128,24 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
     out.upper = -f_upper / area;
     out.lower = f_lower / area;
     const double volume = area * (z_upper - z_lower);
-    out.bulk = -(contact_moment_any(s) + magnetic_moment_sum(s) + drag_moment + kinetic) / volume;
+    out.bulk = -(contact_moment_any(s, separation_z) + magnetic_moment_sum(s, separation_z) + drag_moment + kinetic) / volume;
     return out;
+}
+
+double lees_edwards_stress(const System& s) {
+    const Particles& p = s.particles;
+    const Vec3 L = s.domain.length();
+    double kinetic = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3 u = s.flow->velocity(p.position[i], s.time);
+        kinetic += p.mass[i] * (p.velocity[i].x - u.x) * p.velocity[i].z;
+    }
+    return -(contact_moment_any(s, separation_z) + magnetic_moment_sum(s, separation_z) + kinetic) / (L.x * L.y * L.z);
+}
+
+double lees_edwards_boundary_stress(const System& s) {
+    const Vec3 L = s.domain.length();
+    return (contact_moment_any(s, across_boundary) + magnetic_moment_sum(s, across_boundary)) / (L.x * L.y);
 }
 
 ChainState chain_state(const System& s, const Vec3& field_direction) {

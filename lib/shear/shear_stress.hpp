@@ -29,6 +29,20 @@ struct ShearStress {
 ShearStress shear_stress(const System& system, int upper_raft, int lower_raft, int top_wall, int bottom_wall,
                          double z_lower, double z_upper);
 
+// Virial stress of a Lees-Edwards cell, volume V = X Y Z (the whole periodic box):
+//   tau = -(1/V) [ sum_pairs (z_i - z_j) f_ij,x + sum m_i (v_i,x - u_x(z_i)) v_i,z ]
+// with the pair vectors through the sliding images. No drag moment: the box has no boundary for
+// the drag's moment to be taken about (z is periodic), and in homogeneous shear the drag has no
+// mean in any layer, so the momentum flux across every z plane is the pair and kinetic sum alone.
+double lees_edwards_stress(const System& system);
+
+// The x force per area that the grains above the sliding boundary exert, through it, on the
+// grains below (pairs listed with a z image; method of planes): the momentum flux across that one
+// plane. In steady homogeneous shear its time average equals the virial's, a check that the
+// sliding images carry the stress (tests/test_lees_edwards_stress.cpp). The kinetic flux of grains
+// crossing the plane is left out: small wherever the Stokes number is.
+double lees_edwards_boundary_stress(const System& system);
+
 // Chain-formation measures for the magnetisation criterion.
 struct ChainState {
     double contacts_per_grain = 0;  // 2 x grain-grain contacts / grains
