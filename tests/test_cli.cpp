@@ -21,6 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
+using mrjam_test::rel;
+
 namespace {
 
 using mrjam_test::slurp;
@@ -136,13 +138,13 @@ TEST_CASE("cli: a small scene runs and reports its inputs with defaults, seed an
     CHECK(in["contact"]["model"] == "hertz_mindlin");
     CHECK(in["grains"][0]["placement"]["overlap_tolerance"] == 1e-3);
     // Unit strings are resolved to SI.
-    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == doctest::Approx(1e7));
-    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == doctest::Approx(1e-3));
+    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e7));
+    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(1e-3));
     // The step actually used and its limits.
     const double dt = rep["timestep"]["used_s"].get<double>();
     CHECK(dt > 0);
-    CHECK(dt == doctest::Approx(0.1 * rep["timestep"]["critical_s"].get<double>()));
-    CHECK(rep["results"]["simulated_time_s"].get<double>() == doctest::Approx(100 * dt));
+    CHECK(dt == rel(0.1 * rep["timestep"]["critical_s"].get<double>()));
+    CHECK(rep["results"]["simulated_time_s"].get<double>() == rel(100 * dt));
 }
 
 TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-off") {
@@ -154,7 +156,7 @@ TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-o
     CHECK(a["results"]["grains"] == b["results"]["grains"]);
     CHECK(a["results"]["simulated_time_s"] == b["results"]["simulated_time_s"]);
     CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
-          doctest::Approx(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
+          rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
 }
 
 TEST_CASE("cli: unit strings are accepted and resolved to SI") {
@@ -171,15 +173,15 @@ TEST_CASE("cli: unit strings are accepted and resolved to SI") {
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
     const json in = read_report(dir, "units")["inputs"];
-    CHECK(in["domain"]["hi"][0].get<double>() == doctest::Approx(60e-6));
-    CHECK(in["materials"][0]["density"].get<double>() == doctest::Approx(7800));
-    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == doctest::Approx(1e9));
-    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == doctest::Approx(6.7e-6));
-    CHECK(in["fluid"]["viscosity"].get<double>() == doctest::Approx(0.01));
-    CHECK(in["fluid"]["density"].get<double>() == doctest::Approx(1200));
-    CHECK(in["gravity"][2].get<double>() == doctest::Approx(-9.81));
-    CHECK(in["run"]["duration"].get<double>() == doctest::Approx(2e-7));
-    CHECK(in["run"]["characteristic_speed"].get<double>() == doctest::Approx(0.1));
+    CHECK(in["domain"]["hi"][0].get<double>() == rel(60e-6));
+    CHECK(in["materials"][0]["density"].get<double>() == rel(7800));
+    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e9));
+    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(6.7e-6));
+    CHECK(in["fluid"]["viscosity"].get<double>() == rel(0.01));
+    CHECK(in["fluid"]["density"].get<double>() == rel(1200));
+    CHECK(in["gravity"][2].get<double>() == rel(-9.81));
+    CHECK(in["run"]["duration"].get<double>() == rel(2e-7));
+    CHECK(in["run"]["characteristic_speed"].get<double>() == rel(0.1));
 }
 
 TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the bad field") {
@@ -399,9 +401,9 @@ TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends
         const json& rb = b["results"];
         CHECK(rb["steps"] == 250);
         CHECK(rb["simulated_time_s"].get<double>() == ra["simulated_time_s"].get<double>());
-        CHECK(rb["kinetic_energy_J"].get<double>() == doctest::Approx(ra["kinetic_energy_J"].get<double>()).epsilon(1e-12));
-        CHECK(rb["rotational_energy_J"].get<double>() == doctest::Approx(ra["rotational_energy_J"].get<double>()).epsilon(1e-12));
-        CHECK(rb["elastic_energy_J"].get<double>() == doctest::Approx(ra["elastic_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["kinetic_energy_J"].get<double>() == rel(ra["kinetic_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["rotational_energy_J"].get<double>() == rel(ra["rotational_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(rb["elastic_energy_J"].get<double>() == rel(ra["elastic_energy_J"].get<double>()).epsilon(1e-12));
         CHECK(rb["contacts"] == ra["contacts"]);
         CHECK(rb["walls"] == ra["walls"]);  // forces and positions of floor and the moving lid
         // The report of the resumed run still lists both stages, and its inputs are the scene's.
@@ -457,7 +459,7 @@ TEST_CASE("cli: SIGINT writes a checkpoint and exits 130; resuming it ends where
     CHECK(b["results"]["steps"] == 10000);
     CHECK(b["results"]["simulated_time_s"].get<double>() == a["results"]["simulated_time_s"].get<double>());
     CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
-          doctest::Approx(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-12));
+          rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-12));
     CHECK(b["results"]["contacts"] == a["results"]["contacts"]);
 }
 

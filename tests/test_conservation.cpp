@@ -11,6 +11,8 @@
 // Set MRJAM_TEST_VERBOSE=1 to print the measured figures.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -26,6 +28,8 @@
 #include "observers.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+
+using mrjam_test::rel;
 
 namespace {
 
@@ -296,7 +300,7 @@ TEST_CASE("drag: a grain settling in a viscous fluid reaches the Stokes terminal
     prepare(heavy.system);
     for (long i = 0; i < steps; ++i) advance(heavy.system);
     const double v_heavy = m * 9.81 / (6 * kPi * mu * r);
-    CHECK(-heavy.system.particles.velocity[0].z == doctest::Approx(v_heavy).epsilon(1e-6));
+    CHECK(-heavy.system.particles.velocity[0].z == rel(v_heavy).epsilon(1e-6));
 }
 
 TEST_CASE("drag: a grain at rest in a Couette flow reaches the local fluid velocity") {
@@ -314,9 +318,9 @@ TEST_CASE("drag: a grain at rest in a Couette flow reaches the local fluid veloc
     const Vec3 v = s.particles.velocity[0];
     report("Couette: expected (" + str(expected.x) + ", " + str(expected.y) + ") m/s, measured (" + str(v.x) + ", " +
            str(v.y) + ", " + str(v.z) + ") m/s");
-    CHECK(s.particles.position[0].z == doctest::Approx(0.3e-3).epsilon(1e-12));
-    CHECK(v.x == doctest::Approx(expected.x).epsilon(1e-6));
-    CHECK(v.y == doctest::Approx(expected.y).epsilon(1e-6));
+    CHECK(s.particles.position[0].z == rel(0.3e-3).epsilon(1e-12));
+    CHECK(v.x == rel(expected.x).epsilon(1e-6));
+    CHECK(v.y == rel(expected.y).epsilon(1e-6));
     CHECK(std::fabs(v.z) < 1e-15);
 }
 
@@ -360,7 +364,7 @@ TEST_CASE("stability: a requested step above the stable limit is refused at /run
     const Scene automatic = build(scene_json);
     const double limit = automatic.limits.stable_limit;
     REQUIRE(limit > 0);
-    CHECK(automatic.system.dt == doctest::Approx(0.1 * automatic.limits.critical));
+    CHECK(automatic.system.dt == rel(0.1 * automatic.limits.critical));
     CHECK(automatic.system.dt < limit);
 
     scene_json["run"]["timestep"] = 1.5 * limit;

@@ -3,6 +3,8 @@
 // mirror symmetries and the field equations div B = 0, curl B = 0.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,6 +13,8 @@
 #include <vector>
 
 #include "magnetics/cuboid_field.hpp"
+
+using mrjam_test::rel;
 
 using mrjam::Vec3;
 using mrjam::magnetics::Cuboid;
@@ -158,11 +162,11 @@ TEST_SUITE("physics") {
             MESSAGE("dipole relative error at 10, 20, 40, 300 L: " << errors[0] << " " << errors[1] << " " << errors[2]
                                                                    << " " << errors[3]);
             CHECK(errors[0] < 1e-2);
-            CHECK(errors[1] / errors[2] == doctest::Approx(4.0).epsilon(0.05));
-            CHECK(errors[0] / errors[1] == doctest::Approx(4.0).epsilon(0.2));
+            CHECK(errors[1] / errors[2] == rel(4.0).epsilon(0.05));
+            CHECK(errors[0] / errors[1] == rel(4.0).epsilon(0.2));
             // At 300 L the cancellation between corners and faces costs ~3 log10(r/L) ~ 7.5 digits
             // (see the header), still far below the physical (size/r)^2 term, which must scale.
-            CHECK(errors[3] * (300.0 / 40) * (300.0 / 40) / errors[2] == doctest::Approx(1.0).epsilon(0.05));
+            CHECK(errors[3] * (300.0 / 40) * (300.0 / 40) / errors[2] == rel(1.0).epsilon(0.05));
         }
     }
 

@@ -1,6 +1,8 @@
 // Size distributions, insertion regions and initial packings (geometry/).
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -10,6 +12,8 @@
 #include "geometry/packing.hpp"
 #include "geometry/region.hpp"
 #include "geometry/size_distribution.hpp"
+
+using mrjam_test::rel;
 
 using namespace mrjam;
 
@@ -60,25 +64,25 @@ TEST_CASE("size table: volume frequencies convert to number frequencies n_i ~ f_
     const auto two = SizeDistribution::table({100e-6, 200e-6}, {0.5, 0.5}, Basis::volume);
     const auto c2 = two.discrete_classes();
     REQUIRE(c2.size() == 2);
-    CHECK(c2[0].number_fraction == doctest::Approx(8.0 / 9.0).epsilon(1e-12));
-    CHECK(c2[1].number_fraction == doctest::Approx(1.0 / 9.0).epsilon(1e-12));
+    CHECK(c2[0].number_fraction == rel(8.0 / 9.0).epsilon(1e-12));
+    CHECK(c2[1].number_fraction == rel(1.0 / 9.0).epsilon(1e-12));
 
     // Unnormalised volume shares 1:1:2 at 1, 2, 4 um: counts 1 : 1/8 : 2/64, sum 37/32.
     const auto three = SizeDistribution::table({1e-6, 2e-6, 4e-6}, {1, 1, 2}, Basis::volume);
     const auto c3 = three.discrete_classes();
-    CHECK(c3[0].number_fraction == doctest::Approx(32.0 / 37.0).epsilon(1e-12));
-    CHECK(c3[1].number_fraction == doctest::Approx(4.0 / 37.0).epsilon(1e-12));
-    CHECK(c3[2].number_fraction == doctest::Approx(1.0 / 37.0).epsilon(1e-12));
+    CHECK(c3[0].number_fraction == rel(32.0 / 37.0).epsilon(1e-12));
+    CHECK(c3[1].number_fraction == rel(4.0 / 37.0).epsilon(1e-12));
+    CHECK(c3[2].number_fraction == rel(1.0 / 37.0).epsilon(1e-12));
     // Mean diameter (32*1 + 4*2 + 1*4)/37 um = 44/37 um.
-    CHECK(three.mean_diameter_number() == doctest::Approx(44.0 / 37.0 * 1e-6).epsilon(1e-12));
+    CHECK(three.mean_diameter_number() == rel(44.0 / 37.0 * 1e-6).epsilon(1e-12));
 
     // Number basis is only normalised: 2:6 -> 1/4, 3/4; mean volume by hand.
     const auto num = SizeDistribution::table({1e-3, 2e-3}, {2, 6}, Basis::number);
     const auto cn = num.discrete_classes();
-    CHECK(cn[0].number_fraction == doctest::Approx(0.25));
-    CHECK(cn[1].number_fraction == doctest::Approx(0.75));
+    CHECK(cn[0].number_fraction == rel(0.25));
+    CHECK(cn[1].number_fraction == rel(0.75));
     CHECK(num.mean_particle_volume() ==
-          doctest::Approx(0.25 * sphere_volume(1e-3) + 0.75 * sphere_volume(2e-3)).epsilon(1e-12));
+          rel(0.25 * sphere_volume(1e-3) + 0.75 * sphere_volume(2e-3)).epsilon(1e-12));
     CHECK(num.min_diameter() == 1e-3);
     CHECK(num.max_diameter() == 2e-3);
 
@@ -113,7 +117,7 @@ TEST_CASE("size table: sample mean matches the exact number-weighted mean") {
         mean += c.number_fraction * c.diameter;
         second += c.number_fraction * c.diameter * c.diameter;
     }
-    CHECK(t.mean_diameter_number() == doctest::Approx(mean).epsilon(1e-12));
+    CHECK(t.mean_diameter_number() == rel(mean).epsilon(1e-12));
 
     // By the central limit theorem the sample mean of n draws is normal with standard error
     // sqrt(var / n); 5 standard errors is exceeded with probability ~6e-7, so a failure means a
@@ -157,8 +161,8 @@ TEST_CASE("lognormal: sample median, moments and reproducibility") {
         vol += pdf * sphere_volume(std::exp(x));
         dia += pdf * std::exp(x);
     }
-    CHECK(skew.mean_particle_volume() == doctest::Approx(vol / mass).epsilon(1e-8));
-    CHECK(skew.mean_diameter_number() == doctest::Approx(dia / mass).epsilon(1e-8));
+    CHECK(skew.mean_particle_volume() == rel(vol / mass).epsilon(1e-8));
+    CHECK(skew.mean_diameter_number() == rel(dia / mass).epsilon(1e-8));
     CHECK(skew.min_diameter() == 50e-6);
     CHECK(skew.max_diameter() == 2e-3);
 
@@ -196,7 +200,7 @@ TEST_CASE("mixture: parts weighted by solid volume") {
     const auto c = mix.discrete_classes();
     REQUIRE(c.size() == 2);
     CHECK(c[0].diameter == 100e-6);
-    CHECK(c[0].number_fraction == doctest::Approx(ratio / (1.0 + ratio)).epsilon(1e-12));
+    CHECK(c[0].number_fraction == rel(ratio / (1.0 + ratio)).epsilon(1e-12));
 
     // Drawn grains carry the volume shares. ~95000 grains, 80% fines by number: the fine volume
     // share has standard deviation s(1-s)/sqrt(N p(1-p)) ~ 0.0018, so 3% of 0.33 is 5.5 of them.
@@ -206,12 +210,12 @@ TEST_CASE("mixture: parts weighted by solid volume") {
         total += sphere_volume(d);
         if (d < 150e-6) fine += sphere_volume(d);
     }
-    CHECK(fine / total == doctest::Approx(0.33).epsilon(0.03));
+    CHECK(fine / total == rel(0.33).epsilon(0.03));
 
     // A lognormal part is kept exact: a mixture of one part is that part.
     const auto ln = SizeDistribution::lognormal(1e-3, 0.5, 2e-4, 5e-3);
     const auto alone = SizeDistribution::mixture({{ln, 1.0}});
-    CHECK(alone.mean_particle_volume() == doctest::Approx(ln.mean_particle_volume()).epsilon(1e-12));
+    CHECK(alone.mean_particle_volume() == rel(ln.mean_particle_volume()).epsilon(1e-12));
     const auto both = SizeDistribution::mixture({{ln, 1.0}, {SizeDistribution::single(1e-4), 1.0}});
     CHECK(both.min_diameter() == 1e-4);
     CHECK(both.max_diameter() == 5e-3);
@@ -222,12 +226,12 @@ TEST_CASE("mixture: parts weighted by solid volume") {
 TEST_CASE("region: volume, containment, sampling, periodic spanning") {
     const Domain closed = [] { Domain d; d.lo = {0, 0, 0}; d.hi = {1, 1, 1}; return d; }();
     const auto box = Region::box({0, 0, 0}, {1, 2, 3});
-    CHECK(box.volume() == doctest::Approx(6.0));
+    CHECK(box.volume() == rel(6.0));
     CHECK(box.contains_sphere({0.5, 0.5, 0.5}, 0.5, closed));
     CHECK_FALSE(box.contains_sphere({0.4, 0.5, 0.5}, 0.5, closed));
 
     const auto tube = Region::cylinder({0, 0, 1}, 2, 0.5, 2.0);  // valve tube along z
-    CHECK(tube.volume() == doctest::Approx(kPi * 0.25 * 2.0));
+    CHECK(tube.volume() == rel(kPi * 0.25 * 2.0));
     CHECK(tube.contains_sphere({0.3, 0, 1.5}, 0.2, closed));
     CHECK_FALSE(tube.contains_sphere({0.3, 0.1, 1.5}, 0.2, closed));
     CHECK_FALSE(tube.contains_sphere({0, 0, 1.1}, 0.2, closed));
@@ -245,7 +249,7 @@ TEST_CASE("region: volume, containment, sampling, periodic spanning") {
     CHECK_FALSE(full.contains_sphere({0.01, 0.5, 0.5}, 0.1, closed));
     const auto half = Region::box({0, 0, 0}, {0.5, 1, 1});
     CHECK_FALSE(half.contains_sphere({0.01, 0.5, 0.5}, 0.1, per));
-    CHECK(half.volume(per) == doctest::Approx(0.5));
+    CHECK(half.volume(per) == rel(0.5));
     CHECK_THROWS_AS(Region::box({0, 0, 0}, {1, 0, 1}), std::invalid_argument);
     CHECK_THROWS_AS(Region::cylinder({0, 0, 0}, 3, 1, 1), std::invalid_argument);
 }
@@ -257,11 +261,11 @@ TEST_CASE("random_packing: 0.6 monodisperse in a periodic box") {
     Rng rng(2024);
     const PackingResult r = random_packing(region, domain, mono, 0.6, rng);
     CHECK(r.spheres.size() == 2000);
-    CHECK(r.achieved_volume_fraction == doctest::Approx(0.6).epsilon(0.02));
-    CHECK(solid_volume(r.spheres) / region.volume() == doctest::Approx(r.achieved_volume_fraction));
+    CHECK(r.achieved_volume_fraction == rel(0.6).epsilon(0.02));
+    CHECK(solid_volume(r.spheres) / region.volume() == rel(r.achieved_volume_fraction));
     const double worst = brute_force_max_overlap(r.spheres, domain);
     CHECK(worst <= 1e-3);
-    CHECK(worst == doctest::Approx(r.max_overlap_ratio).epsilon(1e-9));
+    CHECK(worst == rel(r.max_overlap_ratio).epsilon(1e-9));
 }
 
 TEST_CASE("random_packing: 30:1 polydisperse in a periodic box") {
@@ -271,16 +275,16 @@ TEST_CASE("random_packing: 30:1 polydisperse in a periodic box") {
     const auto region = Region::box(domain.lo, domain.hi);
     Rng rng(8);
     const PackingResult r = random_packing(region, domain, bimodal, 0.3, rng);
-    CHECK(r.achieved_volume_fraction == doctest::Approx(0.3).epsilon(0.02));
+    CHECK(r.achieved_volume_fraction == rel(0.3).epsilon(0.02));
     CHECK(brute_force_max_overlap(r.spheres, domain) <= 1e-3);
-    CHECK(r.spheres.front().radius / r.spheres.back().radius == doctest::Approx(30.0));
+    CHECK(r.spheres.front().radius / r.spheres.back().radius == rel(30.0));
 
     // A continuous 30:1 spread, dense enough that relaxation has work to do.
     const auto ln = SizeDistribution::lognormal(3e-4, 1.0, 1e-4, 3e-3);
     const Domain d2 = cube_for(ln, 2000, 0.55);
     Rng rng2(9);
     const PackingResult r2 = random_packing(Region::box(d2.lo, d2.hi), d2, ln, 0.55, rng2);
-    CHECK(r2.achieved_volume_fraction == doctest::Approx(0.55).epsilon(0.02));
+    CHECK(r2.achieved_volume_fraction == rel(0.55).epsilon(0.02));
     CHECK(brute_force_max_overlap(r2.spheres, d2) <= 1e-3);
 }
 
@@ -292,7 +296,7 @@ TEST_CASE("random_packing: walled valve tube keeps grains inside") {
     const auto tube = Region::cylinder({0, 0, 0.005}, 2, 0.005, 0.012);
     Rng rng(31);
     const PackingResult r = random_packing(tube, domain, sizes, 0.5, rng);
-    CHECK(r.achieved_volume_fraction == doctest::Approx(0.5).epsilon(0.03));
+    CHECK(r.achieved_volume_fraction == rel(0.5).epsilon(0.03));
     for (const auto& s : r.spheres) CHECK(tube.contains_sphere(s.centre, s.radius, domain));
     CHECK(brute_force_max_overlap(r.spheres, domain) <= 1e-3);
 }
@@ -339,7 +343,7 @@ TEST_CASE("lattice_packing: counts and spacing") {
     for (std::size_t i = 0; i < fcc.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             closest = std::min(closest, norm(per.separation(fcc[i].centre, fcc[j].centre)));
-    CHECK(closest == doctest::Approx(1.0));
+    CHECK(closest == rel(1.0));
 
     for (const auto& s : lattice_packing(cube, closed, 1.0, 1.0, "hcp"))
         CHECK(cube.contains_sphere(s.centre, s.radius, closed));

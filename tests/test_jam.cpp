@@ -29,8 +29,8 @@ TEST_CASE("throat flux: crossings counted with sign, periodic wraps ignored") {
     s.particles.position = {{0, 0, 0.1}, {0, 0, 0.01}, {0, 0, -0.5}};  // grain 1 crosses forward
     flux.observe(s);
     CHECK(flux.passed() == 1);
-    CHECK(flux.rate_between(1, 2) == doctest::Approx(1.0));
-    CHECK(flux.rate(1.0) == doctest::Approx(1.0));
+    CHECK(flux.rate_between(1, 2) == rel(1.0));
+    CHECK(flux.rate(1.0) == rel(1.0));
     CHECK(flux.rate(5.0) == 0.0);  // history shorter than the window
 }
 
@@ -39,22 +39,22 @@ TEST_CASE("axial resistance: cell volumes, Kozeny-Carman factor, and the circuit
     v.upstream_length = 1.0e-3;
     v.downstream_length = 0.5e-3;
     const double phi0 = 0.345, P = 105e3;
-    // Full bore: the cells' fluid volumes add up to the passage's exact volume (midpoint rule in
-    // z; the cone's quadratic section is integrated to ~1e-5 by 64 samples per cell).
+    // Full bore: the cells' fluid volumes add up to the passage's exact volume (Simpson between
+    // the valve's breakpoints is exact for the cone's quadratic section; rounding ~1e-12).
     const AxialResistance bore(v, 0.0, -v.upstream_length, v.downstream_length, 88e-6, phi0, P);
     double total = 0;
     for (std::size_t k = 0; k < bore.cells(); ++k) total += bore.cell_volume(k);
-    CHECK(total == doctest::Approx(v.fluid_volume()).epsilon(1e-4));
+    CHECK(total == rel(v.fluid_volume()).epsilon(1e-9));
     // A slab |x| < h inside the bore holds the chord area: cross-checked on a straight bore cell.
     const double h = 66e-6, rb = v.bore_radius();
     const AxialResistance slab(v, h, -v.upstream_length, v.downstream_length, 88e-6, phi0, P);
-    CHECK(slab.cell_section(0) == doctest::Approx(slab_section(rb, h)).epsilon(1e-12));
-    CHECK(slab_section(rb, h) == doctest::Approx(4 * h * rb).epsilon(1e-3));  // thin slab: a 2h x 2r_b strip
+    CHECK(slab.cell_section(0) == rel(slab_section(rb, h)).epsilon(1e-12));
+    CHECK(slab_section(rb, h) == rel(4 * h * rb).epsilon(1e-3));  // thin slab: a 2h x 2r_b strip
 
     // Kozeny-Carman per grain, phi / (1 - phi)^2, relative to the feed: 1 at and below the feed.
-    CHECK(bore.drag_factor(phi0) == doctest::Approx(1.0));
+    CHECK(bore.drag_factor(phi0) == rel(1.0));
     CHECK(bore.drag_factor(0.1) == 1.0);
-    CHECK(bore.drag_factor(0.55) == doctest::Approx(0.55 / (0.45 * 0.45) * (0.655 * 0.655) / 0.345));
+    CHECK(bore.drag_factor(0.55) == rel(0.55 / (0.45 * 0.45) * (0.655 * 0.655) / 0.345));
     CHECK(bore.drag_factor(0.9) == bore.drag_factor(0.62));  // capped, finite
 
     // The flow scale: one grain in the straight bore upstream, at the feed's density (factor 1).
@@ -71,13 +71,13 @@ TEST_CASE("axial resistance: cell volumes, Kozeny-Carman factor, and the circuit
     const double d1 = 6 * M_PI * 0.16 * R * one.drag_factor(phi) * 0.273 / one.cell_section(k);
     // At rest: s = P / (P + D1/A).
     AxialResistanceState st = one.update(s, flow, true);
-    CHECK(st.scale == doctest::Approx(P / (P + d1)).epsilon(1e-12));
+    CHECK(st.scale == rel(P / (P + d1)).epsilon(1e-12));
     CHECK(flow.scale() == st.scale);
-    CHECK(st.stretch_pressure == doctest::Approx(st.scale * d1).epsilon(1e-12));
+    CHECK(st.stretch_pressure == rel(st.scale * d1).epsilon(1e-12));
     // Moving with the fluid: no slip, no extra resistance, the prescribed flow.
     s.particles.velocity = {{0, 0, 0.273}};
     st = one.update(s, flow, true);
-    CHECK(st.scale == doctest::Approx(1.0));
+    CHECK(st.scale == rel(1.0));
     CHECK(st.stretch_pressure == doctest::Approx(0.0).scale(1.0));
     // The prescribed flow is only measured: scale and factors untouched.
     ValveFlow prescribed(v, 0.273);
@@ -85,7 +85,7 @@ TEST_CASE("axial resistance: cell volumes, Kozeny-Carman factor, and the circuit
     st = one.update(s, prescribed, false);
     CHECK(prescribed.scale() == 1.0);
     CHECK(prescribed.drag_factor({0, 0, -0.8e-3}) == 1.0);
-    CHECK(st.arrested_pressure == doctest::Approx(6 * M_PI * 0.16 * R * 0.273 / one.cell_section(k)));
+    CHECK(st.arrested_pressure == rel(6 * M_PI * 0.16 * R * 0.273 / one.cell_section(k)));
 }
 
 TEST_CASE("axial resistance: a packed plug in the throat stops the pressure-driven flow") {
@@ -120,7 +120,7 @@ TEST_CASE("axial resistance: a packed plug in the throat stops the pressure-driv
     CHECK(st.scale < 0.1);
     CHECK(flow.drag_factor({0, 0, 0}) > 1.5);
     for (auto& vel : s.particles.velocity) vel = flow.unscaled({0, 0, 0});  // moving with the unscaled fluid
-    CHECK(res.update(s, flow, true).scale == doctest::Approx(1.0));
+    CHECK(res.update(s, flow, true).scale == rel(1.0));
 }
 
 }  // TEST_SUITE

@@ -38,6 +38,8 @@
 #include "scene/scene.hpp"
 #include "test_support.hpp"
 
+using mrjam_test::rel;
+
 namespace {
 
 using namespace mrjam;
@@ -227,8 +229,8 @@ TEST_CASE("magnetic: two touching spheres, converged mutual dipoles against the 
             const Vec3 line = c.offset / norm(c.offset);  // from grain 0 to grain 1
             // In line: attraction, grain 0 pulled towards grain 1 (+line). Side by side: repulsion.
             const double f0_line = dot(fixed.p.force[0], line);
-            CHECK(fixed.p.dipole_moment[0].z == doctest::Approx(m).epsilon(1e-14));
-            CHECK(f0_line == doctest::Approx(c.in_line ? f_closed : -f_closed).epsilon(1e-13));
+            CHECK(fixed.p.dipole_moment[0].z == rel(m).epsilon(1e-14));
+            CHECK(f0_line == rel(c.in_line ? f_closed : -f_closed).epsilon(1e-13));
             // Action and reaction; nothing across the line (the moments and the line are coplanar
             // and the force lies along the line by symmetry).
             CHECK(norm(fixed.p.force[0] + fixed.p.force[1]) <= 1e-14 * f_closed);
@@ -243,17 +245,17 @@ TEST_CASE("magnetic: two touching spheres, converged mutual dipoles against the 
             report(std::string(c.name) + " mu_r " + str(mu_r) + ": converged/fixed force ratio " + str(ratio, 10) +
                    " (closed form " + str(expected, 10) + "), fixed force " + str(f0_line) + " N (closed form " +
                    str(c.in_line ? f_closed : -f_closed) + " N), iterations " + str(mean_iterations(conv.model)));
-            CHECK(ratio == doctest::Approx(expected).epsilon(1e-9));
-            CHECK(conv.p.dipole_moment[0].z == doctest::Approx(m_expected).epsilon(1e-9));
-            CHECK(conv.p.dipole_moment[1].z == doctest::Approx(m_expected).epsilon(1e-9));
+            CHECK(ratio == rel(expected).epsilon(1e-9));
+            CHECK(conv.p.dipole_moment[0].z == rel(m_expected).epsilon(1e-9));
+            CHECK(conv.p.dipole_moment[1].z == rel(m_expected).epsilon(1e-9));
             CHECK(norm(conv.p.force[0] + conv.p.force[1]) <= 1e-14 * f_closed * expected);
             if (mu_r >= 1e6) {
                 // The source's quoted figures (Han, Feng and Owen): 1.7778 and 0.7901, i.e. the
                 // mu_r -> infinity limits 16/9 and 64/81. At mu_r = 1e6, beta = 1 - 3e-6, which
                 // moves the ratio by ~1e-6: well inside the 0.5 % asked for, so check 1e-4 too.
                 const double quoted = c.in_line ? 1.7778 : 0.7901;
-                CHECK(ratio == doctest::Approx(quoted).epsilon(5e-3));
-                CHECK(ratio == doctest::Approx(quoted).epsilon(1e-4));  // the quote has 5 figures
+                CHECK(ratio == rel(quoted).epsilon(5e-3));
+                CHECK(ratio == rel(quoted).epsilon(1e-4));  // the quote has 5 figures
             }
         }
     }
@@ -497,7 +499,7 @@ TEST_CASE("magnetic: field map interpolates a linear field exactly and round-tri
         // ~ 1e-12 T/m against entries of ~10 T/m.
         const Gradient g = map.gradient(x, 0);
         for (int l = 0; l < 3; ++l)
-            for (int k = 0; k < 3; ++k) CHECK(g[l][k] == doctest::Approx(G[l][k]).epsilon(1e-10));
+            for (int k = 0; k < 3; ++k) CHECK(g[l][k] == rel(G[l][k]).epsilon(1e-10));
     }
     // Beyond a face the value is clamped to the face and the gradient across it is zero; along
     // the face it is the face's.
@@ -507,8 +509,8 @@ TEST_CASE("magnetic: field map interpolates a linear field exactly and round-tri
         const Gradient g = map.gradient(beyond, 0);
         for (int l = 0; l < 3; ++l) {
             CHECK(g[l][0] == 0);
-            CHECK(g[l][1] == doctest::Approx(G[l][1]).epsilon(1e-10));
-            CHECK(g[l][2] == doctest::Approx(G[l][2]).epsilon(1e-10));
+            CHECK(g[l][1] == rel(G[l][1]).epsilon(1e-10));
+            CHECK(g[l][2] == rel(G[l][2]).epsilon(1e-10));
         }
     }
 
@@ -859,7 +861,7 @@ TEST_CASE("magnetic: the induced moment saturates at M_s V") {
         // Along the field either way (a scaling of the field direction: a few roundings).
         CHECK(norm(cross(m, dir)) <= 8 * kEps * norm(m));
         if (linear < ms * volume) {
-            CHECK(norm(m) == doctest::Approx(linear).epsilon(1e-14));
+            CHECK(norm(m) == rel(linear).epsilon(1e-14));
         } else {
             // The cap rescales by M_s V / |m|: |m| = M_s V to a couple of roundings.
             CHECK(std::fabs(norm(m) - ms * volume) <= 8 * kEps * ms * volume);

@@ -18,6 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
+using mrjam_test::rel;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -86,7 +88,7 @@ TEST_CASE("cli: a small magnetic scene runs and reports its magnetic results") {
     // Resolved inputs: the defaults of the block are filled in.
     const json& in = rep["inputs"]["magnetic"];
     CHECK(in["mutual"] == "iterations");
-    CHECK(in["cutoff"]["beyond_contact"].get<double>() == doctest::Approx(8e-6));
+    CHECK(in["cutoff"]["beyond_contact"].get<double>() == rel(8e-6));
     CHECK(rep["inputs"]["materials"][0]["relative_permeability"] == 1000);
 }
 

@@ -61,16 +61,16 @@ TEST_CASE("shear cli: a short study reports the flow curve, the fits, the yield 
         CHECK(q["stress_Pa"].is_number());
         CHECK(q["error_Pa"].get<double>() >= 0);
     }
-    CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == doctest::Approx(3000));
+    CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
     REQUIRE(res["yield_stress_Pa"].is_number());
     CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);
     CHECK(res["fits"].contains("casson"));
     CHECK(res["fits"].contains("herschel_bulkley"));
     CHECK(res["magnetisation"].contains("criterion"));
-    CHECK(res["experiment"]["yield_stress_Pa"].get<double>() == doctest::Approx(44.9e3));
+    CHECK(res["experiment"]["yield_stress_Pa"].get<double>() == rel(44.9e3));
     CHECK(res["experiment"].contains("relative_error"));
     REQUIRE(res["field_sweep"].size() == 2);
-    CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == doctest::Approx(0.4));
+    CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == rel(0.4));
     CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
     for (const char* key : {"flow_curve", "field_sweep"}) {
         const std::string svg = slurp(rep["plots"][key].get<std::string>());
@@ -88,7 +88,7 @@ TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when ask
     const json rep = json::parse(slurp(dir.file("damped_report.json")));
     CHECK_FALSE(rep["engine_scene"].contains("fluid"));  // no drag against the affine flow
     // Default coefficient: the Stokes coefficient of the mean grain, 6 pi mu R = 3 pi mu d.
-    CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == doctest::Approx(3 * M_PI * 0.01 * 6.7e-6));
+    CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == rel(3 * M_PI * 0.01 * 6.7e-6));
     CHECK(rep["results"]["flow_curve"].size() == 3);
     scene.erase("dissipation");
     scene["contact_damping"] = "1 uN s/m";
@@ -111,9 +111,9 @@ TEST_CASE("shear cli: a monolayer cell runs end to end, with rafts and with Lees
         const json rep = json::parse(slurp(dir.file(std::string("mono_") + boundaries + "_report.json")));
         const json& cell = rep["results"]["cell"];
         CHECK(cell["monolayer"] == true);
-        CHECK(cell["stress_thickness_m"].get<double>() == doctest::Approx(6.7e-6));
+        CHECK(cell["stress_thickness_m"].get<double>() == rel(6.7e-6));
         // 0.6 of a 40 um square in 6.7 um discs: 0.6 x 1600 / 35.3 = 27 discs.
-        CHECK(cell["grains"].get<int>() == doctest::Approx(27).epsilon(0.1));
+        CHECK(cell["grains"].get<int>() == rel(27).epsilon(0.1));
         REQUIRE(rep["results"]["flow_curve"].size() == 3);
         for (const auto& q : rep["results"]["flow_curve"]) CHECK(std::isfinite(q["stress_Pa"].get<double>()));
         CHECK(rep["engine_scene"]["domain"]["monolayer"] == "y");
@@ -258,7 +258,7 @@ TEST_CASE("shear cli: an interrupted Lees-Edwards study resumes bit for bit (the
     check_resume_matches(dir, scene);
     const json rep = json::parse(slurp(dir.file("full_report.json")));
     CHECK(rep["results"]["cell"]["boundaries"] == "lees_edwards");
-    CHECK(rep["results"]["cell"]["gap_m"].get<double>() == doctest::Approx(40e-6));
+    CHECK(rep["results"]["cell"]["gap_m"].get<double>() == rel(40e-6));
     if (rep["results"]["cell"].contains("rafts")) CHECK(rep["results"]["cell"]["rafts"].empty());
     for (const auto& q : rep["results"]["flow_curve"]) {
         CHECK(q["stress_source"] == "virial of the Lees-Edwards box");

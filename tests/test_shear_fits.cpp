@@ -2,11 +2,15 @@
 // synthetic flow curves exactly, and block averaging gives sigma / sqrt(n) for independent data.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <cmath>
 #include <random>
 
 #include "shear/block_average.hpp"
 #include "shear/flow_curve_fit.hpp"
+
+using mrjam_test::rel;
 
 using namespace mrjam;
 
@@ -28,8 +32,8 @@ TEST_CASE("shear fits: Bingham recovers tau_y and eta from exact data, using onl
     const ModelFit f = fit_bingham(pts, 200);
     REQUIRE(f.ok);
     CHECK(f.points == 3);
-    CHECK(f.yield_stress == doctest::Approx(44.9e3).epsilon(1e-12));
-    CHECK(f.viscosity == doctest::Approx(3.5).epsilon(1e-10));
+    CHECK(f.yield_stress == rel(44.9e3).epsilon(1e-12));
+    CHECK(f.viscosity == rel(3.5).epsilon(1e-10));
     CHECK(f.yield_stress_error == doctest::Approx(0).scale(1e3).epsilon(1e-9));  // exact data: no scatter, no error bars
 }
 
@@ -40,7 +44,7 @@ TEST_CASE("shear fits: Bingham uncertainty propagates the points' error bars whe
     const std::vector<FlowPoint> pts = {{1000, 50e3, s}, {300, 46e3, s}};
     const ModelFit f = fit_bingham(pts, 200);
     REQUIRE(f.ok);
-    CHECK(f.yield_stress_error == doctest::Approx(s * std::sqrt(1000.0 * 1000 + 300.0 * 300) / 700).epsilon(1e-12));
+    CHECK(f.yield_stress_error == rel(s * std::sqrt(1000.0 * 1000 + 300.0 * 300) / 700).epsilon(1e-12));
     CHECK_FALSE(fit_bingham({{100, 1e3, 0}, {1000, 2e3, 0}}, 200).ok);  // one rate above the threshold
 }
 
@@ -48,8 +52,8 @@ TEST_CASE("shear fits: Casson recovers tau_y and eta from exact data") {
     auto law = [](double g) { const double r = std::sqrt(30e3) + std::sqrt(0.8 * g); return r * r; };
     const ModelFit f = fit_casson(synthetic(kRates, law));
     REQUIRE(f.ok);
-    CHECK(f.yield_stress == doctest::Approx(30e3).epsilon(1e-10));
-    CHECK(f.viscosity == doctest::Approx(0.8).epsilon(1e-9));
+    CHECK(f.yield_stress == rel(30e3).epsilon(1e-10));
+    CHECK(f.viscosity == rel(0.8).epsilon(1e-9));
     CHECK(f.rms_residual < 1e-6);
 }
 
@@ -61,9 +65,9 @@ TEST_CASE("shear fits: Herschel-Bulkley recovers tau_y, K and n from exact data"
         auto law = [](double g) { return 20e3 + 150.0 * std::pow(g, nn); };
         const ModelFit f = fit_herschel_bulkley(synthetic(kRates, law));
         REQUIRE(f.ok);
-        CHECK(f.flow_index == doctest::Approx(n).epsilon(1e-6));
-        CHECK(f.yield_stress == doctest::Approx(20e3).epsilon(1e-5));
-        CHECK(f.consistency == doctest::Approx(150.0).epsilon(1e-4));
+        CHECK(f.flow_index == rel(n).epsilon(1e-6));
+        CHECK(f.yield_stress == rel(20e3).epsilon(1e-5));
+        CHECK(f.consistency == rel(150.0).epsilon(1e-4));
     }
 }
 
@@ -86,7 +90,7 @@ TEST_CASE("block averaging: the error of independent samples matches sigma / sqr
         CHECK(b.samples == n);
         ratio_sum += b.error / (2.0 / std::sqrt(static_cast<double>(n)));
     }
-    CHECK(ratio_sum / trials == doctest::Approx(1.0).epsilon(0.03));
+    CHECK(ratio_sum / trials == rel(1.0).epsilon(0.03));
 }
 
 TEST_CASE("block averaging: correlated data get a larger error than the naive one; leftovers drop the oldest samples") {
@@ -105,7 +109,7 @@ TEST_CASE("block averaging: correlated data get a larger error than the naive on
     CHECK(b.error / naive > 2.5);  // 4.36 expected, with the ~16% spread of a 20-block estimate
     const BlockAverage odd = block_average({100.0, 1.0, 2.0, 3.0, 4.0}, 2);
     CHECK(odd.samples == 4);
-    CHECK(odd.mean == doctest::Approx(2.5));
+    CHECK(odd.mean == rel(2.5));
 }
 
 }  // TEST_SUITE

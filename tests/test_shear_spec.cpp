@@ -2,10 +2,14 @@
 // volume (Trendler's 33:67), rates follow from wall speeds as 2 v / gap, and tier defaults apply.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <cmath>
 
 #include "scene/scene_node.hpp"
 #include "shear/shear_spec.hpp"
+
+using mrjam_test::rel;
 
 using namespace mrjam;
 using json = nlohmann::json;
@@ -37,10 +41,10 @@ TEST_CASE("shear scene: a 33:67 mixture of two number tables keeps 33% of the so
         v_all += v;
         if (d[k] < 3e-6) v_small += v;
     }
-    CHECK(v_small / v_all == doctest::Approx(0.33).epsilon(1e-12));
+    CHECK(v_small / v_all == rel(0.33).epsilon(1e-12));
     // Within a part, the number ratio of its classes is kept: 5 um : 8 um = 0.2 : 0.5.
-    CHECK(f[2] / f[3] == doctest::Approx(0.4).epsilon(1e-12));
-    CHECK(spec.largest_diameter == doctest::Approx(10e-6));
+    CHECK(f[2] / f[3] == rel(0.4).epsilon(1e-12));
+    CHECK(spec.largest_diameter == rel(10e-6));
 }
 
 TEST_CASE("shear scene: wall speeds give rates 2 v / gap; the default ladder is the source's rates; tiers fill defaults") {
@@ -49,15 +53,15 @@ TEST_CASE("shear scene: wall speeds give rates 2 v / gap; the default ladder is 
     s["ladder"] = {{"wall_speeds", {"0.04 m/s", "0.02 m/s"}}};
     const ShearSpec a = read_shear_spec(s, "quick");
     REQUIRE(a.rates.size() == 2);
-    CHECK(a.rates[0] == doctest::Approx(2 * 0.04 / 80e-6));
+    CHECK(a.rates[0] == rel(2 * 0.04 / 80e-6));
     s.erase("ladder");
     s.erase("cell");
     const ShearSpec b = read_shear_spec(s, "paper");
     REQUIRE(b.rates.size() == 8);
-    CHECK(b.rates[0] == doctest::Approx(2 * 0.128 / 220e-6));  // 1164 1/s
-    CHECK(b.rates[7] == doctest::Approx(2 * 0.001 / 220e-6));
-    CHECK(b.cell.x == doctest::Approx(shear_tier("paper").cell_size));
-    CHECK(b.strain_first == doctest::Approx(shear_tier("paper").strain_first));
+    CHECK(b.rates[0] == rel(2 * 0.128 / 220e-6));  // 1164 1/s
+    CHECK(b.rates[7] == rel(2 * 0.001 / 220e-6));
+    CHECK(b.cell.x == rel(shear_tier("paper").cell_size));
+    CHECK(b.strain_first == rel(shear_tier("paper").strain_first));
     CHECK(b.resolved["ladder"]["strain_first"] == b.strain_first);  // defaults are echoed
     CHECK_THROWS_AS(read_shear_spec(s, "fast"), SceneError);
 }

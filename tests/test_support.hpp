@@ -3,6 +3,8 @@
 // writing whole files, and running the mrjam executable with its output captured.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <sys/wait.h>
 
 #include <atomic>
@@ -16,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 namespace mrjam_test {
+
 
 struct TempDir {
     std::filesystem::path path;

@@ -2,9 +2,13 @@
 // the right SI value and dimension, and wrong or unknown units are refused with UnitError.
 #include <doctest/doctest.h>
 
+#include "rel_approx.hpp"
+
 #include <string>
 
 #include "scene/units.hpp"
+
+using mrjam_test::rel;
 
 namespace {
 
@@ -16,8 +20,8 @@ void check(const std::string& text, const Dimension& dim, double si) {
     CAPTURE(text);
     const units::Quantity q = units::parse(text);
     CHECK(q.dimension == dim);
-    CHECK(q.value == doctest::Approx(si).epsilon(1e-12));
-    CHECK(units::parse_as(text, dim) == doctest::Approx(si).epsilon(1e-12));
+    CHECK(q.value == rel(si).epsilon(1e-12));
+    CHECK(units::parse_as(text, dim) == rel(si).epsilon(1e-12));
 }
 
 }  // namespace

@@ -16,14 +16,26 @@ AxialResistance::AxialResistance(const ValveGeometry& valve, double slab_half_th
     const std::size_t n = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround((z_hi - z_lo) / cell_length)));
     dz_ = (z_hi - z_lo) / n;
     volume_.resize(n);
-    // Midpoint rule in z: the section is smooth within the cone and piecewise constant elsewhere;
-    // 64 samples per cell put the error at the cone's ends below 1 % of a cell.
-    const int samples = 64;
+    // The section is smooth between the valve's breakpoints (taper start, throat start, orifice
+    // exit; it jumps at the exit), so each cell is split there and each piece integrated by
+    // composite Simpson: exact for the full bore's quadratic cone, ~1e-9 for the slab's chord.
+    const std::vector<double> breaks{valve.taper_start_z(), -0.5 * valve.throat_length, valve.throat_end_z()};
+    auto section = [&](double z) { return slab_section(valve.passage_radius(z), slab_half_thickness); };
     for (std::size_t k = 0; k < n; ++k) {
+        const double a = z_lo + k * dz_, b = a + dz_;
+        std::vector<double> edges{a};
+        for (double z : breaks)
+            if (z > a && z < b) edges.push_back(z);
+        edges.push_back(b);
         double v = 0;
-        for (int j = 0; j < samples; ++j) {
-            const double z = z_lo + (k + (j + 0.5) / samples) * dz_;
-            v += slab_section(valve.passage_radius(z), slab_half_thickness) * dz_ / samples;
+        for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
+            // Open-interval samples only: at a jump the endpoint value belongs to the other side.
+            const double lo = edges[e], hi = edges[e + 1], eps = 1e-12 * (hi - lo);
+            const int m = 8;
+            const double h = (hi - lo) / m;
+            double sum = section(lo + eps) + section(hi - eps);
+            for (int j = 1; j < m; ++j) sum += (j % 2 ? 4.0 : 2.0) * section(lo + j * h);
+            v += sum * h / 3.0;
         }
         volume_[k] = v;
     }
