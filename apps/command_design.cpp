@@ -86,6 +86,29 @@ void add_design_command(CLI::App& app, int& exit_status) {
             return;
         }
 
+        // The scenes of each constriction; the jam scene's field is the map solved for it.
+        auto magnetics_scene = [&](const fs::path& dir, double diameter) {
+            json mscene = magnetics_block;
+            mscene["valve"]["constriction_diameter"] = diameter;
+            mscene["valve"].erase("constriction");
+            mscene["state"] = "on";
+            mscene["output"] = {{"directory", (dir / "magnetics").string()}};
+            return magnetics::read_magnetics_scene(mscene, magnetics_tier);
+        };
+        auto jam_scene = [&](const fs::path& dir, const json& valve, const json& field) {
+            json jscene = jam_block;
+            jscene["valve"] = valve;
+            for (const char* k : {"upstream_length", "downstream_length"}) jscene["valve"].erase(k);
+            jscene["field"] = field;
+            jscene["output"] = {{"directory", (dir / "jam").string()}};
+            return read_jam_scene(jscene, args->fidelity, base);
+        };
+        // Every scene is checked before the first solve: a bad jam block must not cost a field solve.
+        for (const auto& [name, diameter] : constrictions) {
+            const auto ms = magnetics_scene(out_dir / name, diameter);
+            jam_scene(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}});
+        }
+
         json rows = json::array();
         std::string widest;
         double widest_d = 0;
@@ -93,12 +116,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const fs::path dir = out_dir / name;
             fs::create_directories(dir);
             // 1. The field of this valve.
-            json mscene = magnetics_block;
-            mscene["valve"]["constriction_diameter"] = diameter;
-            mscene["valve"].erase("constriction");
-            mscene["state"] = "on";
-            mscene["output"] = {{"directory", (dir / "magnetics").string()}};
-            auto ms = magnetics::read_magnetics_scene(mscene, magnetics_tier);
+            auto ms = magnetics_scene(dir, diameter);
             ms.request.work_dir = dir / "magnetics" / "solver";
             if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
             const auto field = magnetics::compute_epm_field(ms.request);
@@ -107,12 +125,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             FieldMap(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing, field.fluid_map.values)
                 .write(map.string());
             // 2. The jam predictor in that field, with the same valve.
-            json jscene = jam_block;
-            jscene["valve"] = ms.resolved["valve"];
-            for (const char* k : {"upstream_length", "downstream_length"}) jscene["valve"].erase(k);
-            jscene["field"] = {{"type", "map"}, {"file", fs::absolute(map).string()}};
-            jscene["output"] = {{"directory", (dir / "jam").string()}};
-            const JamScene js = read_jam_scene(jscene, args->fidelity, base);
+            const JamScene js = jam_scene(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
             int jams = 0;
             json runs = json::array();
             for (int k = 0; k < seeds; ++k) {

@@ -68,7 +68,15 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         if (!valve_in.contains("downstream_length")) valve_in["downstream_length"] = downstream;
     }
     json valve_echo;
-    out.valve = read_valve(SceneNode(valve_in, valve_echo, "/valve"));
+    // A model length too short for the constriction is the model block's fault, so say so there.
+    const bool lengths_from_model = valve_in.is_object() && !scene["valve"].contains("upstream_length");
+    try {
+        out.valve = read_valve(SceneNode(valve_in, valve_echo, "/valve"));
+    } catch (const SceneError& e) {
+        if (lengths_from_model && e.path() == "/valve/upstream_length")
+            throw SceneError("/model/upstream_length", std::string(e.what()).substr(e.path().size() + 2));
+        throw;
+    }
     root.resolved_child("valve") = valve_echo;
     root.raw("valve");
     const ValveGeometry& v = out.valve;
