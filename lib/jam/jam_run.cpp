@@ -64,7 +64,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     AxialResistanceState flow_state;
     struct FlowSample { double time, scale, stretch_pressure, max_fraction; };
     std::vector<FlowSample> flow_history;
-    double next_report = 0.1e-3;
+    double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
         flux.observe(sys);
         if (!valve_flow) return;
@@ -74,7 +74,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         // A line per 0.1 ms of simulated time: what a user watches for is the flux.
         if (options.progress && sys.time >= next_report) {
             next_report = sys.time + 0.1e-3;
-            const double rate = flux.rate(std::min(0.1e-3, sys.time));
+            const double rate = flux.rate(0.1e-3);
             std::cerr << "[jam] t = " << sys.time * 1e3 << " ms: grain flux " << rate << " /s";
             if (base_rate > 0) std::cerr << " (" << std::lround(100 * rate / base_rate) << " % of the no-field flux)";
             if (js.flow.pressure_driven)
