@@ -101,6 +101,19 @@ void legacy_field_vec3s(std::string& out, const char* name, const std::vector<Ve
     legacy_vec3s(out, v);
 }
 
+// One scalar per grain, big-endian, as a FIELD array (ids, materials, the modes' extra arrays).
+template <class T>
+void legacy_field_scalars(std::string& out, const std::string& name, const char* vtk_type, const std::vector<T>& v) {
+    out += name;
+    out += " 1 ";
+    put_text(out, v.size());
+    out += ' ';
+    out += vtk_type;
+    out += '\n';
+    for (T x : v) put(out, x, std::endian::big);
+    out += '\n';
+}
+
 void write_vtk_legacy(Output& file, const Particles& p, long step, double time, const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     if (n > static_cast<std::size_t>(INT32_MAX / 2))
@@ -152,15 +165,9 @@ void write_vtk_legacy(Output& file, const Particles& p, long step, double time, 
     file.flush(out);
     out += "FIELD FieldData ";
     put_text(out, 5 + extra.size());
-    out += "\nid 1 ";
-    put_text(out, n);
-    out += " vtktypeuint64\n";
-    for (std::uint64_t v : p.id) put(out, v, std::endian::big);
-    out += "\nmaterial 1 ";
-    put_text(out, n);
-    out += " unsigned_short\n";
-    for (std::uint16_t v : p.material) put(out, v, std::endian::big);
     out += '\n';
+    legacy_field_scalars(out, "id", "vtktypeuint64", p.id);
+    legacy_field_scalars(out, "material", "unsigned_short", p.material);
     file.flush(out);
     legacy_field_vec3s(out, "angular_velocity", p.angular_velocity);
     file.flush(out);
@@ -169,12 +176,7 @@ void write_vtk_legacy(Output& file, const Particles& p, long step, double time, 
     legacy_field_vec3s(out, "dipole_moment", p.dipole_moment);
     file.flush(out);
     for (const IntPointArray& a : extra) {
-        out += a.name;
-        out += " 1 ";
-        put_text(out, n);
-        out += " int\n";
-        for (std::int32_t v : a.values) put(out, v, std::endian::big);
-        out += '\n';
+        legacy_field_scalars(out, a.name, "int", a.values);
         file.flush(out);
     }
 }
