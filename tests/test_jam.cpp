@@ -142,6 +142,11 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
                         "0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n");
     refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
+    refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
+            "/fluid/resistance_cell_length");
+    refused("profile", {{"fluid", {{"profile", "uniform"}}}}, "/fluid/profile");
+    // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
+    refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }
 
 TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throat picture") {
