@@ -165,6 +165,8 @@ TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterr
     REQUIRE(cut.exit_code == 130);
     const json c = json::parse(slurp(dir.file("cut_report.json")));
     CHECK(c["results"]["flux_history"]["partial"] == true);
+    // No outcome is claimed before the protocol has ended.
+    CHECK(c["results"]["outcome"].get<std::string>().rfind("incomplete", 0) == 0);
     CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
     const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
                                           quote(dir.file("resumed.json")) + " --quiet");

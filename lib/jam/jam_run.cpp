@@ -222,7 +222,14 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     r["grains_passed_total"] = flux.passed();
     r["no_field_flux_grains_per_s"] = base_rate;
     r["released"] = jammed ? nlohmann::json(released) : nlohmann::json(nullptr);
-    r["outcome"] = undetermined ? "undetermined" : !jammed ? "fail-no-jam" : (released ? "success" : "fail-irreversible");
+    // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
+    const bool incomplete = outcome.exit_status != 0;
+    r["outcome"] = undetermined                 ? "undetermined"
+                   : incomplete && !jammed      ? "incomplete (no arrest yet; resume with mrjam jam --resume)"
+                   : incomplete                 ? "incomplete (arrested; release not yet tested)"
+                   : !jammed                    ? "fail-no-jam"
+                   : released                   ? "success"
+                                                : "fail-irreversible";
     if (undetermined)
         out.report["warnings"].push_back("no grains crossed the throat during the no-field flow, so an arrest cannot be "
                                          "told from a blocked start: lengthen protocol/flow_time or check the flow");
