@@ -11,6 +11,22 @@ double rolling_inertia_of(const Particles& p, std::size_t i) {
     return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
 }
 
+// Calls fn(i, j, k, d, r2) for every listed pair within its range that has a free grain (pairs
+// inside one raft carry no stress across the gap), d the pair vector with the image shift.
+template <class PairFn>
+void for_each_pair_with_free_grain(const Particles& p, const NeighborList& list, PairFn fn) {
+    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const std::uint32_t j = list.partners[k];
+            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
+            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
+            const double r2 = norm2(d);
+            if (r2 >= list.range_sq[k]) continue;
+            fn(i, j, k, d, r2);
+        }
+    }
+}
+
 // Sum over touching grain pairs with a free grain of weight(d, image) f_ij,x, re-evaluating each
 // contact law on a copy of its history (the state is not changed). The weight is d_z = z_i - z_j
 // for the virial, or which side of the sliding boundary the pair spans for the plane stress.
@@ -19,35 +35,28 @@ double contact_moment(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.contacts;
     double sum = 0;
-    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            const std::uint32_t j = list.partners[k];
-            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
-            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
-            const double r2 = norm2(d);
-            if (r2 >= list.range_sq[k]) continue;
-            const double dist = std::sqrt(r2), ri = p.radius[i], rj = p.radius[j];
-            ContactInput in;
-            in.normal = d * (1.0 / dist);
-            in.overlap = ri + rj - dist;
-            in.distance = dist;
-            in.radius_i = ri;
-            in.radius_j = rj;
-            in.reduced_radius = ri * rj / (ri + rj);
-            in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-            in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
-            const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
-            in.contact_velocity = dv - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
-            in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
-            in.wall = false;
-            ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
-            ContactOutput out;
-            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
-            const double wgt = weight(d, list.image[k]);
-            sum += wgt * out.force_on_i.x;
-            if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
-        }
-    }
+    for_each_pair_with_free_grain(p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
+        const double dist = std::sqrt(r2), ri = p.radius[i], rj = p.radius[j];
+        ContactInput in;
+        in.normal = d * (1.0 / dist);
+        in.overlap = ri + rj - dist;
+        in.distance = dist;
+        in.radius_i = ri;
+        in.radius_j = rj;
+        in.reduced_radius = ri * rj / (ri + rj);
+        in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
+        const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
+        in.contact_velocity = dv - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
+        in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
+        in.wall = false;
+        ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
+        ContactOutput out;
+        hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
+        const double wgt = weight(d, list.image[k]);
+        sum += wgt * out.force_on_i.x;
+        if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
+    });
     return sum;
 }
 
@@ -87,20 +96,13 @@ double magnetic_moment_sum(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.magnetic.pairs;
     double sum = 0;
-    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            const std::uint32_t j = list.partners[k];
-            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
-            const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
-            const double r2 = norm2(d);
-            if (r2 >= list.range_sq[k]) continue;
-            const double inv_r2 = 1.0 / r2;
-            const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
-            const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
-            const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
-            sum += weight(d, list.image[k]) * force.x;
-        }
-    }
+    for_each_pair_with_free_grain(p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
+        const double inv_r2 = 1.0 / r2;
+        const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
+        const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
+        const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
+        sum += weight(d, list.image[k]) * force.x;
+    });
     return sum;
 }
 
