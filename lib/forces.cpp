@@ -28,10 +28,6 @@ void merge_stats(ContactStats& into, const ContactStats& s) {
     }
 }
 
-double rolling_inertia_of(const Particles& p, std::size_t i) {
-    return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
-}
-
 // Sliding: Lees-Edwards images, whose velocity enters the contact velocity (a template flag, so
 // the ordinary force loop does no work for it).
 template <RollingModel Rolling, CohesionModel Cohesion, bool Sliding>
@@ -75,25 +71,12 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             }
             const bool frozen_j = raft[j] >= 0;
             if (frozen_i && frozen_j) continue;  // both move rigidly: their force does no work
-            const double dist = std::sqrt(r2);
             const double rj = radius[j];
-            const double rsum = ri + rj;
-            ContactInput in;
-            in.normal = d * (1.0 / dist);
-            in.overlap = rsum - dist;
-            in.distance = dist;
-            in.radius_i = ri;
-            in.radius_j = rj;
-            in.reduced_radius = ri * rj / rsum;
-            in.reduced_mass = mass[i] * mass[j] / (mass[i] + mass[j]);
-            if constexpr (Rolling == RollingModel::epsd) {
-                in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
-            }
             Vec3 dv = v[i] - v[j];
             if constexpr (Sliding) dv += image_velocity[image[k]];
-            in.contact_velocity = dv - cross(w[i] * ri + w[j] * rj, in.normal);
-            in.relative_spin = w[i] - w[j];
-            in.wall = false;
+            ContactInput in = grain_pair_input(d, r2, ri, rj, mass[i], mass[j], dv, w[i], w[j]);
+            if constexpr (Rolling == RollingModel::epsd)
+                in.rolling_inertia = 1.0 / (1.0 / p.rolling_inertia(i) + 1.0 / p.rolling_inertia(j));
             ContactOutput out;
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, history[k], dt, out);
             fi += out.force_on_i;
@@ -136,7 +119,7 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
             in.radius_j = 0;
             in.reduced_radius = ri;
             in.reduced_mass = p.mass[i];
-            in.rolling_inertia = rolling_inertia_of(p, i);
+            in.rolling_inertia = p.rolling_inertia(i);
             in.contact_velocity = p.velocity[i] - wall.velocity - cross(p.angular_velocity[i] * ri, in.normal);
             in.relative_spin = p.angular_velocity[i];
             in.wall = true;

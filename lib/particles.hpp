@@ -62,6 +62,9 @@ struct Particles {
         raft[i] = -1;
         return i;
     }
+
+    // EPSD's rolling inertia of grain i about its contact point, I + m R^2 (Ai et al. eq. 16).
+    double rolling_inertia(std::size_t i) const { return inertia[i] + mass[i] * radius[i] * radius[i]; }
 };
 
 }  // namespace mrjam

@@ -172,6 +172,18 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(res["flux_history"]["rows"].size() > 2);
     CHECK(std::filesystem::exists(dir.file("jam_report_throat.png")));
     CHECK(report["fidelity"]["jam_tier"] == "quick");
+    // The magnet is off during the no-field flow: the force evaluations there (one per step,
+    // give or take the first before them and the last, at the switch-on time) skip the
+    // magnetic pass; none does once it is on (no arrest here, so it stays on).
+    const json& stages = res["stages"];
+    REQUIRE(stages.size() >= 2);
+    REQUIRE(stages[0]["name"] == "flow");
+    const long flow_steps = stages[0]["steps"], off_in_flow = stages[0]["state"]["magnetic"]["steps_with_magnet_off"];
+    CHECK(off_in_flow >= flow_steps - 1);
+    CHECK(off_in_flow <= flow_steps + 1);
+    CHECK(res["jammed"] == false);
+    CHECK(res["magnetic"]["steps_with_magnet_off"].get<long>() == off_in_flow);
+    CHECK(res["magnetic"]["mean_moment_A_m2"].get<double>() > 0.0);
 }
 
 }  // TEST_SUITE

@@ -15,6 +15,8 @@
 //  5. Chains: a suspension of iron grains at volume fraction 0.3 in a field along z, run through
 //     the scene path, develops contacts aligned with the field.
 //  6. Saturation: the induced moment is capped at M_s V.
+//  7. A magnet switched off: soft grains lose their moments at once and the pass is skipped;
+//     a permanent dipole still polarises and pulls its neighbour.
 // Set MRJAM_TEST_VERBOSE=1 to print the measured figures.
 #include <doctest/doctest.h>
 
@@ -874,6 +876,44 @@ TEST_CASE("magnetic: the induced moment saturates at M_s V") {
     pair.add({0, 0, 2 * R}, R, mu_r, ms * volume);
     pair.evaluate();
     for (int i = 0; i < 2; ++i) CHECK(std::fabs(norm(pair.p.dipole_moment[i]) - ms * volume) <= 8 * kEps * ms * volume);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. A magnet switched off (the jam predictor's no-field flow and its release test).
+TEST_CASE("magnetic: with the magnet switched off soft grains lose their moments at once; permanent ones still act") {
+    const double R = 1e-4, T_off = 1e-3;
+    auto field = std::make_shared<SwitchedField>(std::make_shared<UniformField>(Vec3{0, 0.23, 0}, 0.0, 0.0, 1e300), 0.0, T_off);
+    Rig rig(field, MutualPolicy::lagged);
+    // A touching chain of three soft grains along the field: with the field on they attract.
+    for (int k = 0; k < 3; ++k) rig.add({0, 2 * R * k, 0}, R, 1000.0);
+    rig.evaluate();
+    REQUIRE(norm(rig.p.force[0]) > 0);
+    REQUIRE(rig.model.skipped_passes == 0);
+
+    // Field off: no applied field and no permanent moment, so the self-consistent moments are
+    // zero (the lagged update would have left m = chi H_neighbours and let it decay step by step).
+    for (auto& f : rig.p.force) f = Vec3{};
+    add_magnetic_forces(rig.model, rig.p, 2 * T_off, 1);
+    CHECK(rig.model.skipped_passes == 1);
+    for (std::size_t i = 0; i < rig.p.size(); ++i) {
+        CHECK(norm(rig.p.dipole_moment[i]) == 0);
+        CHECK(norm(rig.p.force[i]) == 0);
+    }
+
+    // The same switch with a permanent dipole beside the chain: the pass still runs and the
+    // permanent grain polarises its neighbour, which then attracts it.
+    Rig mixed(field, MutualPolicy::lagged);
+    mixed.add({0, 0, 0}, R, 1000.0);
+    mixed.add_permanent({0, 2.5 * R, 0}, R, Vec3{0, 1e-9, 0}, Quaternion{});
+    mixed.evaluate();
+    for (int step = 0; step < 3; ++step) {
+        for (auto& f : mixed.p.force) f = Vec3{};
+        add_magnetic_forces(mixed.model, mixed.p, 2 * T_off, 1);
+    }
+    CHECK(mixed.model.skipped_passes == 0);
+    CHECK(norm(mixed.p.dipole_moment[0]) > 0);
+    CHECK(mixed.p.force[0].y > 0);  // pulled towards the permanent grain at +y
+    CHECK(mixed.p.force[0].y == -mixed.p.force[1].y);
 }
 
 }  // TEST_SUITE

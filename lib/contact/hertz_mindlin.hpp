@@ -39,6 +39,27 @@ struct ContactInput {
     bool wall;
 };
 
+// The kinematics of a grain-grain contact from the pair's separation d = x_i - x_j (image shift
+// included), r2 = |d|^2 < (R_i + R_j)^2, and relative velocity dv = v_i - v_j (image velocity
+// included). The rolling inertia is left to the caller: only EPSD reads it.
+inline ContactInput grain_pair_input(const Vec3& d, double r2, double ri, double rj, double mi, double mj,
+                                     const Vec3& dv, const Vec3& wi, const Vec3& wj) {
+    const double dist = std::sqrt(r2), rsum = ri + rj;
+    ContactInput in;
+    in.normal = d * (1.0 / dist);
+    in.overlap = rsum - dist;
+    in.distance = dist;
+    in.radius_i = ri;
+    in.radius_j = rj;
+    in.reduced_radius = ri * rj / rsum;
+    in.reduced_mass = mi * mj / (mi + mj);
+    in.rolling_inertia = 0;
+    in.contact_velocity = dv - cross(wi * ri + wj * rj, in.normal);
+    in.relative_spin = wi - wj;
+    in.wall = false;
+    return in;
+}
+
 struct ContactOutput {
     Vec3 force_on_i;     // force on j is the opposite
     Vec3 torque_on_i;

@@ -9,7 +9,7 @@
 namespace mrjam {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x334b434d414a524dull;  // "MRJAMCK3" (3: the Lees-Edwards state)
+constexpr std::uint64_t kMagic = 0x344b434d414a524dull;  // "MRJAMCK4" (3: the Lees-Edwards state; 4: magnetic pass counts)
 
 void put_particles(std::ostream& out, const Particles& p) {
     p.for_each_array([&](const auto& a) { binary::put_vector(out, a); });
@@ -49,7 +49,14 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
         binary::put(out, s.domain.shear_velocity);
         put_particles(out, s.particles);
         s.contacts.save(out);
-        if (s.magnetic.enabled) s.magnetic.pairs.save(out);
+        if (s.magnetic.enabled) {
+            s.magnetic.pairs.save(out);
+            // The counts behind the reported mean iterations per step: a run resumed after the
+            // magnet was switched off (no passes since) reports what the whole run did.
+            binary::put(out, s.magnetic.field_passes);
+            binary::put(out, s.magnetic.force_passes);
+            binary::put(out, s.magnetic.skipped_passes);
+        }
         binary::put<std::uint64_t>(out, s.walls.size());
         for (const Wall& w : s.walls) {
             binary::put(out, w.point);
@@ -93,7 +100,12 @@ void restore_state(const std::string& path, System& s) {
     s.domain.shear_velocity = binary::get<double>(in);
     get_particles(in, s.particles);
     s.contacts.load(in);
-    if (s.magnetic.enabled) s.magnetic.pairs.load(in);
+    if (s.magnetic.enabled) {
+        s.magnetic.pairs.load(in);
+        s.magnetic.field_passes = binary::get<long>(in);
+        s.magnetic.force_passes = binary::get<long>(in);
+        s.magnetic.skipped_passes = binary::get<long>(in);
+    }
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
     for (Wall& w : s.walls) {

@@ -21,6 +21,9 @@ public:
     virtual Gradient gradient(const Vec3& x, double time) const = 0;  // tesla per metre
     virtual bool uniform() const = 0;  // true: no gradient anywhere, the force term is skipped
     virtual std::string name() const = 0;
+    // True when the field is zero everywhere at `time` (a magnet switched off): grains without a
+    // permanent moment then carry none, and the magnetic pass is skipped.
+    virtual bool off_at(double /*time*/) const { return false; }
 };
 
 // B = B0 s(t): s = 0 before `switch_on`, rising linearly to 1 over `ramp` (0: a step), and back
@@ -33,6 +36,7 @@ public:
     Gradient gradient(const Vec3&, double) const override { return {}; }
     bool uniform() const override { return true; }
     std::string name() const override { return "uniform"; }
+    bool off_at(double time) const override { return strength(time) == 0.0 || norm2(b0_) == 0.0; }
     double strength(double time) const;
 
 private:
@@ -89,6 +93,7 @@ public:
     }
     bool uniform() const override { return inner_->uniform(); }
     std::string name() const override { return inner_->name(); }
+    bool off_at(double time) const override { return !active(time) || inner_->off_at(time); }
     void switch_off_at(double time) { off_ = time; }
     double switch_off_time() const { return off_; }  // infinity until switched off
     bool active(double time) const { return time >= on_ && time < off_; }

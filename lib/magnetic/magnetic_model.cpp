@@ -131,6 +131,15 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     static thread_local std::vector<Vec3> torque;
     const MagneticSettings& s = model.settings;
     const std::size_t n = p.size();
+    // A magnet switched off (the jam predictor's no-field flow and release): induced moments
+    // vanish at once (the self-consistent solution without an applied field is zero; the lagged
+    // update would only let them decay over a few steps), and there is nothing to sum.
+    if (!model.any_permanent && model.field->off_at(time)) {
+        p.dipole_moment.assign(n, Vec3{});
+        model.neighbour_field.assign(n, Vec3{});
+        ++model.skipped_passes;
+        return;
+    }
     // Moments for this step's forces.
     if (s.policy == MutualPolicy::fixed) {
         update_moments(model, p, time, false, threads);

@@ -55,6 +55,7 @@ struct MagneticModel {
     bool any_permanent = false;
     long field_passes = 0;              // mutual-dipole field evaluations so far
     long force_passes = 0;
+    long skipped_passes = 0;            // steps with the field off and no permanent moment
 };
 
 // Sets every grain's moment from the applied field (and its permanent moment); call after the

@@ -7,10 +7,6 @@
 namespace mrjam {
 namespace {
 
-double rolling_inertia_of(const Particles& p, std::size_t i) {
-    return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i];
-}
-
 // Calls fn(i, j, k, d, r2) for every listed pair within its range that has a free grain (pairs
 // inside one raft carry no stress across the gap), d the pair vector with the image shift.
 template <class PairFn>
@@ -36,20 +32,10 @@ double contact_moment(const System& s, Weight weight) {
     const NeighborList& list = s.contacts;
     double sum = 0;
     for_each_pair_with_free_grain(p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
-        const double dist = std::sqrt(r2), ri = p.radius[i], rj = p.radius[j];
-        ContactInput in;
-        in.normal = d * (1.0 / dist);
-        in.overlap = ri + rj - dist;
-        in.distance = dist;
-        in.radius_i = ri;
-        in.radius_j = rj;
-        in.reduced_radius = ri * rj / (ri + rj);
-        in.reduced_mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-        in.rolling_inertia = 1.0 / (1.0 / rolling_inertia_of(p, i) + 1.0 / rolling_inertia_of(p, j));
         const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
-        in.contact_velocity = dv - cross(p.angular_velocity[i] * ri + p.angular_velocity[j] * rj, in.normal);
-        in.relative_spin = p.angular_velocity[i] - p.angular_velocity[j];
-        in.wall = false;
+        ContactInput in = grain_pair_input(d, r2, p.radius[i], p.radius[j], p.mass[i], p.mass[j], dv,
+                                           p.angular_velocity[i], p.angular_velocity[j]);
+        in.rolling_inertia = 1.0 / (1.0 / p.rolling_inertia(i) + 1.0 / p.rolling_inertia(j));
         ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
         ContactOutput out;
         hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
