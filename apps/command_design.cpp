@@ -136,7 +136,12 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
                 if (o.exit_status != 0) {
                     exit_status = o.exit_status;
-                    std::cerr << "[design] the jam run for " << name << " stopped; partial results in " << dir << "\n";
+                    // Keep the run's partial report (flux history marked partial, the error) and say why
+                    // it stopped: a blow-up's cause and its fixes are in the report's "error".
+                    const fs::path partial = dir / "jam_report.json";
+                    write_json_file(partial.string(), o.report);
+                    std::cerr << "[design] the jam run for " << name << " stopped; its partial report is " << partial << "\n";
+                    if (o.report.contains("error")) std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
                     return;
                 }
                 jams += o.jammed;
