@@ -69,26 +69,28 @@ void for_each_node(FieldGrid& f, Fn fn) {
                    f.values[n]);
 }
 
-// B over the bore's bounding box (the whole modelled tube length in 3D, the section in 2D).
-FieldGrid fluid_map(const EpmModel& m, int dim, double spacing, const ElementSampler& sampler) {
+// B over the bore's bounding box (the whole modelled tube length in 3D, the section in 2D),
+// from the fluid's own elements only. The grains live in the fluid, and the map is interpolated
+// trilinearly: a node inside the valve body or an iron insert would carry that solid's field
+// into the cells next to the wall (B's tangential part jumps by the permeability ratio there, 10
+// from fluid to plastic, and an insert's iron holds a few tesla), which is a spurious gradient
+// force on every grain within one node spacing of the wall. A node outside the fluid takes the
+// fluid's value where the ray from it to the axis enters the fluid: the field at the wall, held
+// constant outwards.
+FieldGrid fluid_map(const EpmModel& m, int dim, double spacing, const ElementSampler& fluid) {
     const double rb = m.valve.bore_radius();
     const int n = nodes_for(2 * rb, spacing);
     const double z0 = dim == 3 ? -m.valve.upstream_length : 0.0, z1 = dim == 3 ? m.valve.downstream_length : 0.0;
     FieldGrid f = empty_grid({-rb, -rb, z0}, {rb, rb, z1}, {n, n, dim == 3 ? nodes_for(z1 - z0, spacing) : 1});
-    // Corner nodes of the box can lie outside a thin valve body; they take the value at the
-    // body's outer surface on the same radius (the air there has the body's permeability, so B
-    // is continuous across it). Grains never sit there; the nodes only close the interpolation cells.
-    const double r_body = 0.5 * m.valve.outer_diameter();
+    constexpr int kRaySteps = 400;  // steps of r / 400 inwards: the wall is found to 0.25 % of r
     for_each_node(f, [&](const Vec3& x, Vec3& value) {
-        auto b = sampler.sample(x);
-        const double r = std::hypot(x.x, x.y);
-        // Step inwards past the faceted (polygonal) surface of the meshed cylinder.
-        for (int step = 0; !b && r > 0 && step < 10; ++step) {
-            const double f_in = std::min(r_body, r) * (1.0 - 0.01 * step) / r;
-            b = sampler.sample({x.x * f_in, x.y * f_in, x.z});
+        auto b = fluid.sample(x);
+        for (int step = 1; !b && step <= kRaySteps; ++step) {
+            const double shrink = 1.0 - static_cast<double>(step) / kRaySteps;
+            b = fluid.sample({x.x * shrink, x.y * shrink, x.z});
         }
         if (!b) throw std::runtime_error("field map node (" + std::to_string(x.x) + ", " + std::to_string(x.y) + ", " +
-                                         std::to_string(x.z) + ") m is in no sampled element");
+                                         std::to_string(x.z) + ") m: no fluid element on its ray to the axis");
         value = *b;
     });
     return f;
@@ -149,10 +151,9 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
     problem.regions = epm_materials(m, dim);
     problem.boundary_region = region::boundary;
     problem.measured_regions = {region::fluid_active, region::inactive_air};
-    problem.sampled_regions = {region::fluid_active, region::valve_body};
+    // The field map is the fluid's field (fluid_map above).
+    problem.sampled_regions = {region::fluid_active};
     if (dim == 3) problem.sampled_regions.push_back(region::fluid_passive);
-    // Inserts reach into the bore's bounding box.
-    if (m.bracket.variant == BracketVariant::insert) problem.sampled_regions.push_back(region::iron);
     problem.section = request.picture_pixels > 1;
     const Solution s = solve_with_getdp(problem, request.work_dir, mesh_file);
 

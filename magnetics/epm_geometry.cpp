@@ -142,8 +142,8 @@ std::vector<RegionPieces> add_epm_pieces(const EpmModel& m, int dim) {
         const double iw = m.bracket.insert_width;
         inserts = cut({section_box(-0.5 * iw, 0.0, iw, g), section_box(-0.5 * iw, -g, iw, g)}, fluid, false);
     }
-    // The valve body (non-magnetic plastic) is its own region so the field map can be sampled
-    // over the bore's bounding box from the elements of fluid and body alone.
+    // The valve body (non-magnetic plastic) is its own region: the tube's wall and the
+    // constriction's cone, whose outline the fluid is cut from.
     const DimTags body_outline{dim == 3 ? std::pair{3, occ::addCylinder(0, 0, -v.upstream_length, 0, 0,
                                                                         v.upstream_length + v.downstream_length, ro)}
                                         : std::pair{2, occ::addDisk(0, 0, 0, ro, ro)}};

@@ -59,6 +59,15 @@ std::vector<std::string> EpmModel::problems() const {
         say("/valve/wall_thickness", "the valve body (outer diameter " + mm(valve.outer_diameter()) +
                                          ") does not fit between the brackets (gap = magnet length " + mm(gap()) +
                                          "); thin the wall, narrow the bore or lengthen the magnets");
+    // The modelled tube must run out from under the brackets on both sides: the body's end faces
+    // cannot meet the brackets' faces (gmsh's boolean cut fails there), and the field map needs
+    // the fluid beyond the brackets where the field falls off. 0.25 mm past the caps is the least
+    // the 3D mesh was tried with.
+    for (const auto& [path, length] : {std::pair{"/valve/upstream_length", valve.upstream_length},
+                                       std::pair{"/valve/downstream_length", valve.downstream_length}})
+        if (b.width > 0 && length < 0.5 * b.width + 0.25e-3)
+            say(path, mm(length) + " ends under the brackets (half their width is " + mm(0.5 * b.width) +
+                          "); model at least " + mm(0.5 * b.width + 0.25e-3) + " of tube on each side of the throat");
     if (b.variant != BracketVariant::unguided) {
         const double r = 0.5 * valve.outer_diameter();
         if (b.tip_reach < -r) say("/bracket/tip_reach", "the tips stop short of the tube (tip_reach < -outer radius); reach at least to the tube wall");

@@ -71,6 +71,10 @@ TEST_CASE("EPM model: impossible geometry names the field and the fix") {
     m.bracket.variant = BracketVariant::insert;
     m.bracket.insert_width = 5e-3;
     CHECK(mentions(m.problems(), "/bracket/insert_width"));
+    m = ok;
+    m.valve.downstream_length = 2e-3;  // ends at the caps' edge (4 mm wide): gmsh's cut failed there
+    CHECK(mentions(m.problems(), "/valve/downstream_length"));
+    CHECK_FALSE(mentions(m.problems(), "/valve/upstream_length"));
 }
 
 // A reluctance network with linear elements: flux is linear in the sources, equal and opposite
