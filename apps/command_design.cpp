@@ -2,6 +2,7 @@
 // constriction: solve the EPM's field (magnetics/), write its field map, run the jam predictor
 // in that field, estimate the open valve's flow rate at the supply pressure; then name the
 // widest constriction that still jams reliably.
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
@@ -109,9 +110,26 @@ void add_design_command(CLI::App& app, int& exit_status) {
             jam_scene(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}});
         }
 
+        const auto started = std::chrono::steady_clock::now();
         json rows = json::array();
         std::string widest;
         double widest_d = 0;
+        // The design report, written when the design ends and also when a jam run stops it
+        // (a blow-up, Ctrl-C): the constrictions finished by then are not lost.
+        auto write_report = [&](const std::string& status, const json& stopped) {
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", status},
+                           {"scene_file", args->scene}, {"inputs", design}, {"inputs_design", resolved},
+                           {"fidelity", {{"jam_tier", args->fidelity}, {"magnetics_tier", magnetics_tier}}},
+                           {"results", {{"constrictions", rows},
+                                        {"widest_reliable_constriction", widest.empty() ? json(nullptr) : json(widest)},
+                                        {"required_jam_probability", required},
+                                        {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
+                                                            "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}},
+                           {"wall_time_s", wall}};
+            if (!stopped.is_null()) report["stopped"] = stopped;
+            write_json_file(args->report, report);
+        };
         for (const auto& [name, diameter] : constrictions) {
             const fs::path dir = out_dir / name;
             fs::create_directories(dir);
@@ -122,10 +140,17 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const auto field = magnetics::compute_epm_field(ms.request);
             fs::remove_all(ms.request.work_dir);
             const fs::path map = dir / "field.map";
-            FieldMap(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing, field.fluid_map.values)
-                .write(map.string());
+            const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,
+                                     field.fluid_map.values);
+            field_map.write(map.string());
             // 2. The jam predictor in that field, with the same valve.
             const JamScene js = jam_scene(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
+            // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
+            // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are reported.
+            const double entrance_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
+            const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
+                                        {"taper_middle_T", norm(field_map.flux_density({0, 0, entrance_z}, 0))},
+                                        {"taper_middle_z_m", entrance_z}};
             int jams = 0;
             json runs = json::array();
             for (int k = 0; k < seeds; ++k) {
@@ -134,41 +159,43 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 options.progress = !args->quiet;
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
                 const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
+                // Every seed's own report (flux and flow histories, clusters) stays beside the map.
+                const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(k) + ".json");
+                json jam_report = o.report;
+                jam_report["inputs_jam"] = js.resolved;
+                write_json_file(seed_report.string(), jam_report);
                 if (o.exit_status != 0) {
                     exit_status = o.exit_status;
-                    // Keep the run's partial report (flux history marked partial, the error) and say why
-                    // it stopped: a blow-up's cause and its fixes are in the report's "error".
-                    const fs::path partial = dir / "jam_report.json";
-                    write_json_file(partial.string(), o.report);
-                    std::cerr << "[design] the jam run for " << name << " stopped; its partial report is " << partial << "\n";
+                    // Say why it stopped: a blow-up's cause and its fixes are in the report's "error".
+                    std::cerr << "[design] the jam run for " << name << " stopped; its partial report is " << seed_report << "\n";
                     if (o.report.contains("error")) std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
+                    write_report(o.report.value("status", std::string("failed")),
+                                 {{"constriction", name}, {"seed", k}, {"jam_report", seed_report.string()},
+                                  {"exit_status", o.exit_status}});
+                    std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
                 }
                 jams += o.jammed;
-                runs.push_back({{"outcome", o.report["results"]["outcome"]}, {"time_to_arrest_s", o.report["results"]["time_to_arrest_s"]}});
+                runs.push_back({{"outcome", o.report["results"]["outcome"]},
+                                {"time_to_arrest_s", o.report["results"]["time_to_arrest_s"]},
+                                {"jam_report", seed_report.string()}});
             }
             // 3. The open valve's flow at the supply pressure.
             const double phi = js.resolved["grains"].value("volume_fraction", 0.345);
             const double mu = js.resolved["fluid"].value("viscosity", 0.16);
             const double rho_s = phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
-            ValveGeometry open = js.valve;
-            const OpenFlowEstimate flow = open_flow_estimate(open, mu, phi, rho_s, js.flow.supply_pressure);
+            const OpenFlowEstimate flow = open_flow_estimate(js.valve, mu, phi, rho_s, js.flow.supply_pressure);
             const double probability = static_cast<double>(jams) / seeds;
             if (probability >= required && diameter > widest_d) { widest_d = diameter; widest = name; }
             rows.push_back({{"constriction", name}, {"diameter_m", diameter},
-                            {"mean_B_active_T", field.mean_b_active}, {"jam_probability", probability}, {"runs", runs},
+                            {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
+                            {"B_on_axis", field_on_axis},
+                            {"jam_probability", probability}, {"runs", runs},
                             {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
                             {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                             {"field_map", map.string()}});
         }
-        json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", "complete"},
-                       {"scene_file", args->scene}, {"inputs", design}, {"fidelity", args->fidelity},
-                       {"results", {{"constrictions", rows},
-                                    {"widest_reliable_constriction", widest.empty() ? json(nullptr) : json(widest)},
-                                    {"required_jam_probability", required},
-                                    {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
-                                                        "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}}};
-        write_json_file(args->report, report);
+        write_report("complete", nullptr);
         if (!args->quiet)
             std::cerr << "[design] widest constriction that jams reliably: " << (widest.empty() ? "none" : widest)
                       << "; report " << args->report << "\n";

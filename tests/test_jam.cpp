@@ -217,6 +217,33 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     CHECK(row["open_flow_rate_m3_s"].get<double>() > 0);
     CHECK(std::filesystem::exists(dir.file("design/30x/field.map")));
     CHECK(report["results"].contains("widest_reliable_constriction"));
+    CHECK(report["status"] == "complete");
+    CHECK(report["wall_time_s"].get<double>() > 0);
+    // The map is the fluid's field interpolated from fluid vertex values, so on the axis it is
+    // positive and never above the largest nodal value in the active fluid around the throat.
+    const double throat_b = row["B_on_axis"]["throat_centre_T"].get<double>();
+    CHECK(throat_b > 0);
+    CHECK(throat_b <= row["max_B_active_T"].get<double>() * (1 + 1e-9));
+    // The constriction's jam run keeps its own report beside the map, as `mrjam jam` writes it.
+    const json jam = json::parse(slurp(dir.file("design/30x/jam_report.json")));
+    CHECK(jam["results"]["outcome"] == row["runs"][0]["outcome"]);
+    CHECK(jam["inputs_jam"]["field"]["type"] == "map");
+
+    // A jam run that blows up (grains far too soft for the flow) stops the design with exit 3;
+    // the design report is still written, says where it stopped, and points at the partial report.
+    json soft = design;
+    soft["jam"]["material"] = {{"youngs_modulus", "1 MPa"}};
+    soft["jam"]["protocol"]["flow_time"] = "0.5 ms";
+    write_text(dir.file("soft.json"), soft.dump());
+    const Result blown = mrjam_test::mrjam(dir, "design " + quote(dir.file("soft.json")) + " --report " +
+                                                    quote(dir.file("soft_report.json")) + " --fidelity quick --quiet");
+    CAPTURE(blown.err);
+    CHECK(blown.exit_code == 3);
+    const json stopped = json::parse(slurp(dir.file("soft_report.json")));
+    CHECK(stopped["status"] == "failed");
+    CHECK(stopped["stopped"]["constriction"] == "30x");
+    CHECK(stopped["results"]["constrictions"].empty());
+    CHECK(std::filesystem::exists(stopped["stopped"]["jam_report"].get<std::string>()));
 
     write_text(dir.file("bad.json"), json{{"constrictions", {"30x"}}, {"magnet", json::object()}}.dump());
     const Result bad = mrjam_test::mrjam(dir, "design " + quote(dir.file("bad.json")) + " --quiet");
