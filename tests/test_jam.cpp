@@ -4,6 +4,7 @@
 
 #include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/steady_flow.hpp"
 #include "jam/throat_flux.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "test_support.hpp"
@@ -123,6 +124,52 @@ TEST_CASE("axial resistance: a packed plug in the throat stops the pressure-driv
     CHECK(res.update(s, flow, true).scale == rel(1.0));
 }
 
+// A flux history of its own: (time, net grains passed) every 10 us from the field's switch-on
+// at t = 0, the count given by `passed(t)`.
+template <class Passed>
+ThroatFlux flux_history(double until, Passed passed) {
+    json rows = json::array();
+    for (int k = 0; k * 10e-6 <= until + 1e-12; ++k) rows.push_back({k * 10e-6, std::lround(passed(k * 10e-6))});
+    ThroatFlux flux;
+    flux.restore({{"plane", 0.0}, {"previous_z", json::array()}, {"passed", rows.back()[1]}, {"history", rows}});
+    return flux;
+}
+
+TEST_CASE("steady flow: two windows of equal flux and a settled flow scale, nothing less") {
+    const SteadyFlowCriterion c{1e-3, 0.15};
+    // A constant 1e6 grains/s: steady once two 1 ms windows exist, not before.
+    const auto constant = [](double t) { return 1e6 * t; };
+    CHECK(steady_flow(flux_history(2e-3, constant), {}, 0.0, c).steady);
+    CHECK(steady_flow(flux_history(2e-3, constant), {}, 0.0, c).last_rate == rel(1e6));
+    CHECK_FALSE(steady_flow(flux_history(1.9e-3, constant), {}, 0.0, c).steady);
+    // The field came on at 0.5 ms: the flux before it does not count.
+    CHECK_FALSE(steady_flow(flux_history(2e-3, constant), {}, 0.5e-3, c).steady);
+    // Off when the window is 0.
+    CHECK_FALSE(steady_flow(flux_history(3e-3, constant), {}, 0.0, {0.0, 0.15}).steady);
+    // Halving every millisecond (flux 2e6 e^{-t ln 2 / 1 ms}): windows 50 % apart, not steady.
+    const double k = std::log(2.0) / 1e-3;
+    const auto halving = [&](double t) { return 2e6 / k * (1 - std::exp(-k * t)); };
+    CHECK_FALSE(steady_flow(flux_history(2e-3, halving), {}, 0.0, c).steady);
+    // A 10 % fall per window is within a 15 % tolerance, a 20 % fall is not.
+    const auto fall = [](double drop) {
+        return [drop](double t) { return t <= 1e-3 ? 1e6 * t : 1e3 + (1 - drop) * 1e6 * (t - 1e-3); };
+    };
+    CHECK(steady_flow(flux_history(2e-3, fall(0.10)), {}, 0.0, c).steady);
+    CHECK_FALSE(steady_flow(flux_history(2e-3, fall(0.20)), {}, 0.0, c).steady);
+    // An arrest (no grains through) is not a steady flow.
+    CHECK_FALSE(steady_flow(flux_history(2e-3, [](double) { return 0.0; }), {}, 0.0, c).steady);
+    // Pressure-driven flow: the flux is steady but the flow scale fell 30 % over the last
+    // window (the grains are still throttling the fluid): not yet steady; a settled scale is.
+    std::vector<FlowSample> falling, settled;
+    for (int i = 0; i <= 200; ++i) {
+        const double t = i * 10e-6;
+        falling.push_back({t, 1.0 - 0.3 * std::max(0.0, t - 1e-3) / 1e-3, 0, 0});
+        settled.push_back({t, 0.6, 0, 0});
+    }
+    CHECK_FALSE(steady_flow(flux_history(2e-3, constant), falling, 0.0, c).steady);
+    CHECK(steady_flow(flux_history(2e-3, constant), settled, 0.0, c).steady);
+}
+
 }  // TEST_SUITE
 
 TEST_SUITE("cli") {
@@ -142,6 +189,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
                         "0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n");
     refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
+    refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");
     refused("profile", {{"fluid", {{"profile", "uniform"}}}}, "/fluid/profile");
@@ -182,8 +230,36 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(off_in_flow >= flow_steps - 1);
     CHECK(off_in_flow <= flow_steps + 1);
     CHECK(res["jammed"] == false);
+    CHECK(res["field_period_ended_by"] == "max_time");
     CHECK(res["magnetic"]["steps_with_magnet_off"].get<long>() == off_in_flow);
     CHECK(res["magnetic"]["mean_moment_A_m2"].get<double>() > 0.0);
+}
+
+// "Until arrest or steady flow": with protocol/steady_window the field period ends as soon as
+// two windows of flux agree. A tolerance of 0.99 calls any two windows with grains through
+// steady, so without a field (no arrest possible) the period must end after two windows, well
+// before max_time.
+TEST_CASE("jam: a steady flow ends the field period before max_time") {
+    TempDir dir;
+    const json scene = {{"valve", {{"constriction", "30x"}}},
+                        {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                        {"field", {{"flux_density", "0 mT"}}},
+                        {"protocol", {{"flow_time", "0.05 ms"}, {"max_time", "0.3 ms"}, {"arrest_window", "0.02 ms"},
+                                      {"steady_window", "0.03 ms"}, {"steady_tolerance", 0.99}}},
+                        {"output", {{"directory", dir.file("out")}}}};
+    write_text(dir.file("jam.json"), scene.dump());
+    const Result r = mrjam_test::mrjam(dir, "jam " + quote(dir.file("jam.json")) + " --report " + quote(dir.file("r.json")) +
+                                                " --fidelity quick --quiet");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json res = json::parse(slurp(dir.file("r.json")))["results"];
+    CHECK(res["field_period_ended_by"] == "steady flow");
+    CHECK(res["outcome"] == "fail-no-jam");
+    const json& field_on = res["stages"][1];
+    REQUIRE(field_on["name"] == "field_on");
+    // Two windows (0.06 ms) and at most one observation more, against 0.3 ms of max_time.
+    CHECK(field_on["ended_early"] == true);
+    CHECK(field_on["end_time_s"].get<double>() < 0.05e-3 + 0.08e-3);
 }
 
 }  // TEST_SUITE

@@ -36,6 +36,11 @@ struct AxialResistanceState {
     double max_drag_factor = 1;
 };
 
+// One observation of the resistance cells, as the report's flow history keeps it.
+struct FlowSample {
+    double time, scale, stretch_pressure, max_fraction;
+};
+
 class AxialResistance {
 public:
     // Cells of about `cell_length` between z_lo and z_hi; `slab_half_thickness` 0 for the full bore.

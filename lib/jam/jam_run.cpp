@@ -11,6 +11,7 @@
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/jam_snapshots.hpp"
+#include "jam/steady_flow.hpp"
 #include "jam/throat_span.hpp"
 #include "jam/throat_flux.hpp"
 #include "run/runner.hpp"
@@ -46,7 +47,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     ThroatFlux flux(0.0);
     double base_rate = 0, arrest_time = -1, release_start = -1;
     long passed_at_switch_on = 0, passed_at_arrest = 0;
-    bool jammed = false, released = false, undetermined = false;
+    bool jammed = false, released = false, undetermined = false, steady = false;
     RunOptions run;
     run.mode = "jam";
     run.progress = options.progress;
@@ -62,7 +63,6 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                                      js.valve.downstream_length, js.flow.cell_length, js.feed_fraction,
                                      js.flow.supply_pressure);
     AxialResistanceState flow_state;
-    struct FlowSample { double time, scale, stretch_pressure, max_fraction; };
     std::vector<FlowSample> flow_history;
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
@@ -104,7 +104,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                 release_start = t;
                 return true;
             }
-            return false;
+            // Or a steady flow that has not arrested: no jam, without waiting for max_time.
+            steady = steady_flow(flux, flow_history, p.flow_time, {p.steady_window, p.steady_tolerance}).steady;
+            return steady;
         }
         // Release: the field is off; has the flux come back?
         if (!jammed || undetermined) return true;
@@ -140,7 +142,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         return nlohmann::json{
             {"seed", seed}, {"flux", flux.save()}, {"base_rate", base_rate}, {"arrest_time", arrest_time},
             {"release_start", release_start}, {"passed_at_switch_on", passed_at_switch_on}, {"passed_at_arrest", passed_at_arrest},
-            {"jammed", jammed}, {"released", released}, {"undetermined", undetermined},
+            {"jammed", jammed}, {"released", released}, {"undetermined", undetermined}, {"steady", steady},
             {"field_off_s", std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr)},
             {"flow_scale", valve_flow ? valve_flow->scale() : 1.0},
             {"drag_factors", valve_flow ? valve_flow->drag_factors() : std::vector<double>{}},
@@ -161,6 +163,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         jammed = st.at("jammed");
         released = st.at("released");
         undetermined = st.at("undetermined");
+        steady = st.value("steady", false);  // checkpoints before the steady-flow test have none
         if (!st.at("field_off_s").is_null()) field->switch_off_at(st["field_off_s"].get<double>());
         if (valve_flow) {
             // The cells' factors and scale as the last observation left them: the steps up to the
@@ -204,6 +207,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     const RunOutcome outcome = run_protocol(scene, run, start, observe_all);
     if (outcome.exit_status == 0) snapshots.write_tagged(s, "end");
 
+    const bool incomplete = outcome.exit_status != 0;
     JamOutcome out;
     out.report = outcome.report;
     out.exit_status = outcome.exit_status;
@@ -222,8 +226,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     r["grains_passed_total"] = flux.passed();
     r["no_field_flux_grains_per_s"] = base_rate;
     r["released"] = jammed ? nlohmann::json(released) : nlohmann::json(nullptr);
+    // Why the field period ended: an arrest, a steady flow (protocol/steady_window) or max_time.
+    r["field_period_ended_by"] = jammed ? "arrest" : steady ? "steady flow" : incomplete ? "interruption" : "max_time";
     // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
-    const bool incomplete = outcome.exit_status != 0;
     r["outcome"] = undetermined                 ? "undetermined"
                    : incomplete && !jammed      ? "incomplete (no arrest yet; resume with mrjam jam --resume)"
                    : incomplete                 ? "incomplete (arrested; release not yet tested)"

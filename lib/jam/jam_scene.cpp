@@ -189,6 +189,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);
     if (p.arrest_window >= p.max_time) protocol.fail("arrest_window", "must be shorter than max_time");
+    p.steady_window = protocol.quantity("steady_window", units::time, p.steady_window, Bounds::non_negative());
+    p.steady_tolerance = protocol.number("steady_tolerance", p.steady_tolerance, Bounds::open(0.0, 1.0));
+    if (p.steady_window > 0.5 * p.max_time)
+        protocol.fail("steady_window", "two windows must fit in max_time: give at most half of it, or 0 to run to max_time");
     protocol.finish();
 
     SceneNode output = root.object("output");

@@ -22,6 +22,8 @@ struct JamProtocol {
     double release_time = 1e-3;     // s, field off after an arrest
     double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
     long observe_every = 50;        // steps between flux observations
+    double steady_window = 0;       // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
+    double steady_tolerance = 0.15; // relative change from one window to the next that counts as steady
 };
 
 // The carrier flow: the source's prescribed profile, or driven by the supply pressure through
