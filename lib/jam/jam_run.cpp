@@ -235,6 +235,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                    : !jammed                    ? "fail-no-jam"
                    : released                   ? "success"
                                                 : "fail-irreversible";
+    if (steady)
+        out.report["warnings"].push_back("the field period ended on a steady flow (protocol/steady_window), which was "
+                                         "taken as no jam: arrests can come late after a long steady flow (on the bundled "
+                                         "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
+                                         "outcome with steady_window 0");
     if (undetermined)
         out.report["warnings"].push_back("no grains crossed the throat during the no-field flow, so an arrest cannot be "
                                          "told from a blocked start: lengthen protocol/flow_time or check the flow");
