@@ -252,8 +252,10 @@ TEST_CASE("jam: a steady flow ends the field period before max_time") {
                                                 " --fidelity quick --quiet");
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
-    const json res = json::parse(slurp(dir.file("r.json")))["results"];
+    const json report = json::parse(slurp(dir.file("r.json")));
+    const json& res = report["results"];
     CHECK(res["field_period_ended_by"] == "steady flow");
+    CHECK(report["warnings"].dump().find("steady_window 0") != std::string::npos);
     CHECK(res["outcome"] == "fail-no-jam");
     const json& field_on = res["stages"][1];
     REQUIRE(field_on["name"] == "field_on");
