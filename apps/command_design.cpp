@@ -137,7 +137,14 @@ void add_design_command(CLI::App& app, int& exit_status) {
             auto ms = magnetics_scene(dir, diameter);
             ms.request.work_dir = dir / "magnetics" / "solver";
             if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
-            const auto field = magnetics::compute_epm_field(ms.request);
+            const auto field = [&] {
+                try {
+                    return magnetics::compute_epm_field(ms.request);
+                } catch (const std::exception& e) {  // a mesh or solver failure: keep what is done, then fail
+                    write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
+                    throw;
+                }
+            }();
             fs::remove_all(ms.request.work_dir);
             const fs::path map = dir / "field.map";
             const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,
