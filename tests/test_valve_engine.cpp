@@ -56,6 +56,23 @@ TEST_CASE("passage wall: overlap and normal on the bore, the cone and the orific
         check_contact(wall, place(rt, v.throat_end_z(), -a, b, r, delta, phi), r, delta, e_r * (-a) + Vec3{0, 0, b});
         // The step face downstream of the lip: the normal points downstream.
         check_contact(wall, place(0.5 * (rt + rb), v.throat_end_z(), 0, 1, r, delta, phi), r, delta, Vec3{0, 0, 1});
+        // The concave corner where the step face meets the bore: a grain pressed into both faces
+        // (overlap d1 with the bore, d2 with the step) is pushed out of both, by the sum of the
+        // two penetration vectors, not by the nearer face alone.
+        const double d1 = 3e-7, d2 = 2e-7;
+        const double cr = rb - (r - d1), cz = v.throat_end_z() + (r - d2);
+        check_contact(wall, {cr * std::cos(phi), cr * std::sin(phi), cz}, r, std::hypot(d1, d2),
+                      (e_r * (-d1) + Vec3{0, 0, d2}) * (1.0 / std::hypot(d1, d2)));
+        // The bore meeting the cone (about 133 degrees inside): the same sum of the two faces.
+        const double zs2 = v.taper_start_z();
+        const Vec3 bore_in{-1, 0, 0};                   // (radial, axial) inward normal of the bore
+        const Vec3 cone_in{nr, nz, 0};                  // and of the cone
+        const Vec3 centre_2d{rb - (r - d1), zs2 - 0.3 * r, 0};  // d1 into the bore, just upstream of the corner
+        const double cone_distance = dot(centre_2d - Vec3{rb, zs2, 0}, cone_in);
+        REQUIRE(cone_distance < r);
+        const Vec3 push = bore_in * d1 + cone_in * (r - cone_distance);
+        check_contact(wall, {centre_2d.x * std::cos(phi), centre_2d.x * std::sin(phi), centre_2d.y}, r, norm(push),
+                      (e_r * push.x + Vec3{0, 0, push.y}) * (1.0 / norm(push)));
     }
     // Clear of every surface: no contact.
     double overlap;
