@@ -11,5 +11,5 @@ cd "$(dirname "$0")/.."
 # The engine on its own: grains settling in a box, with ParaView snapshots.
 ./build/mrjam run examples/settle_column.json --report out/settle_column/report.json --quiet
 echo "design report: out/design_quick/report.json (per constriction: field, jam outcome, open flow;"
-echo "  the field map and a picture of the throat under out/design_quick/<constriction>/)"
+echo "  the field map, the jam report and a picture of the throat under out/design_quick/<constriction>/)"
 echo "DEM report: out/settle_column/report.json; snapshots (ParaView): out/settle_column/snapshot_*.vtk"
