@@ -204,9 +204,7 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
                         {"protocol", {{"flow_time", "0.05 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"},
                                       {"release_time", "0.02 ms"}}},
                         {"output", {{"directory", dir.file("out")}}}};
-    write_text(dir.file("jam.json"), scene.dump());
-    const Result r = mrjam_test::mrjam(dir, "jam " + quote(dir.file("jam.json")) + " --report " + quote(dir.file("jam_report.json")) +
-                                    " --fidelity quick --quiet");
+    const Result r = run_mode(dir, "jam", "jam", scene, "--fidelity quick");
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
     const json report = json::parse(slurp(dir.file("jam_report.json")));
@@ -247,12 +245,10 @@ TEST_CASE("jam: a steady flow ends the field period before max_time") {
                         {"protocol", {{"flow_time", "0.05 ms"}, {"max_time", "0.3 ms"}, {"arrest_window", "0.02 ms"},
                                       {"steady_window", "0.03 ms"}, {"steady_tolerance", 0.99}}},
                         {"output", {{"directory", dir.file("out")}}}};
-    write_text(dir.file("jam.json"), scene.dump());
-    const Result r = mrjam_test::mrjam(dir, "jam " + quote(dir.file("jam.json")) + " --report " + quote(dir.file("r.json")) +
-                                                " --fidelity quick --quiet");
+    const Result r = run_mode(dir, "jam", "steady", scene, "--fidelity quick");
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
-    const json report = json::parse(slurp(dir.file("r.json")));
+    const json report = json::parse(slurp(dir.file("steady_report.json")));
     const json& res = report["results"];
     CHECK(res["field_period_ended_by"] == "steady flow");
     CHECK(report["warnings"].dump().find("steady_window 0") != std::string::npos);
