@@ -5,8 +5,8 @@
 
 namespace mrjam {
 
-SteadyFlowVerdict steady_flow(const ThroatFlux& flux, const std::vector<FlowSample>& flow_history,
-                              double field_on, const SteadyFlowCriterion& criterion) {
+SteadyFlowVerdict steady_flow(const ThroatFlux& flux, const std::vector<FlowSample>& flow_history, double field_on,
+                              const SteadyFlowCriterion& criterion) {
     SteadyFlowVerdict v;
     const double w = criterion.window;
     const auto& h = flux.history();

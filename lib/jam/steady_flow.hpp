@@ -14,8 +14,8 @@
 namespace mrjam {
 
 struct SteadyFlowCriterion {
-    double window = 0;       // s; 0 switches the test off (the run goes to max_time)
-    double tolerance = 0.15; // relative change of flux and flow scale allowed from one window to the next
+    double window = 0;        // s; 0 switches the test off (the run goes to max_time)
+    double tolerance = 0.15;  // relative change of flux and flow scale allowed from one window to the next
 };
 
 struct SteadyFlowVerdict {
@@ -25,7 +25,7 @@ struct SteadyFlowVerdict {
 
 // `field_on`: when the field came on (only the flux with the field counts). `flow_history`:
 // the resistance cells' observations (pressure-driven flow), empty for a prescribed flow.
-SteadyFlowVerdict steady_flow(const ThroatFlux& flux, const std::vector<FlowSample>& flow_history,
-                              double field_on, const SteadyFlowCriterion& criterion);
+SteadyFlowVerdict steady_flow(const ThroatFlux& flux, const std::vector<FlowSample>& flow_history, double field_on,
+                              const SteadyFlowCriterion& criterion);
 
 }  // namespace mrjam
