@@ -154,10 +154,10 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const JamScene js = jam_scene(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are reported.
-            const double entrance_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
+            const double taper_middle_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
-                                        {"taper_middle_T", norm(field_map.flux_density({0, 0, entrance_z}, 0))},
-                                        {"taper_middle_z_m", entrance_z}};
+                                        {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},
+                                        {"taper_middle_z_m", taper_middle_z}};
             int jams = 0;
             json runs = json::array();
             for (int k = 0; k < seeds; ++k) {

@@ -110,7 +110,8 @@ TEST_CASE("magnetics: a 2D run writes a field map the engine reads over the whol
 // carry the fluid's value at the wall, not the solid's. With the insert variant the iron reaches
 // the bore's bounding box, and its field (tesla) next to the fluid would be a spurious gradient
 // force on grains at the wall. Every map value is then an interpolation of fluid vertex values,
-// so none exceeds the largest of them (max_B_active_T; in 2D all the fluid is active).
+// so none exceeds the largest of them: max_B_active_T, the active fluid between the brackets
+// (the passive fluid beyond them, also in the map, lies in a weaker field).
 TEST_CASE("magnetics: the field map carries the fluid's field up to the wall, never the iron's") {
     if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
     TempDir dir;
