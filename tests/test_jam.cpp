@@ -4,6 +4,7 @@
 
 #include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
 #include "jam/throat_flux.hpp"
 #include "magnetics/getdp_problem.hpp"
@@ -193,8 +194,23 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");
     refused("profile", {{"fluid", {{"profile", "uniform"}}}}, "/fluid/profile");
+    // The converging jet must re-open before the periodic seam (the standard tier: 0.65 mm past
+    // the exit, less two 88 um cells).
+    refused("long_jet", {{"fluid", {{"profile", "converging"}, {"jet_length", "0.7 mm"}}}}, "/fluid/jet_length");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
+}
+
+TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, shortened to fit before the seam") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}, {"fluid", {{"profile", "converging"}}}};
+    // Standard tier: 0.75 mm downstream, exit at 0.1 mm, cells 88 um: 0.474 mm of room < 0.8 mm taper.
+    const JamScene standard = read_jam_scene(scene, "standard", ".");
+    CHECK(standard.flow.jet_length == rel(0.75e-3 - 0.1e-3 - 2 * 88e-6));
+    // A long enough tube gets the mirror image of the taper.
+    json longer = scene;
+    longer["model"] = {{"downstream_length", "1.5 mm"}};
+    CHECK(read_jam_scene(longer, "standard", ".").flow.jet_length == rel(0.8e-3));
+    CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() == rel(0.8e-3));
 }
 
 TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throat picture") {

@@ -136,3 +136,56 @@ TEST_CASE("valve flow, source reading: the bore profile up to the orifice, the r
 }
 
 }  // TEST_SUITE
+
+namespace {
+// Divergence of the flow by central differences in x, y, z (the profile is piecewise smooth, so
+// points are kept away from its kinks).
+double divergence(const mrjam::FlowField& f, const mrjam::Vec3& x, double h) {
+    using mrjam::Vec3;
+    const double dx = (f.velocity(x + Vec3{h, 0, 0}, 0).x - f.velocity(x - Vec3{h, 0, 0}, 0).x) / (2 * h);
+    const double dy = (f.velocity(x + Vec3{0, h, 0}, 0).y - f.velocity(x - Vec3{0, h, 0}, 0).y) / (2 * h);
+    const double dz = (f.velocity(x + Vec3{0, 0, h}, 0).z - f.velocity(x - Vec3{0, 0, h}, 0).z) / (2 * h);
+    return dx + dy + dz;
+}
+}  // namespace
+
+TEST_CASE("valve flow, converging reading: divergence-free, one flow rate, along the cone, a mirrored jet past the exit") {
+    ValveGeometry v;
+    const double U = 0.273;
+    const ValveFlow flow(v, U, ValveFlow::Profile::converging);
+    const double rb = v.bore_radius(), rt = v.throat_radius();
+    const double exit = v.throat_end_z();
+    const double mid_taper = v.taper_start_z() + 0.5 * v.taper_length;
+    const double mid_jet = exit + 0.5 * v.taper_length;
+    // Continuity: |div u| against the velocity gradient's own scale U / r_t, at points in the
+    // plug and in the ramp of the taper and of the jet (the difference step 1e-7 m; the
+    // central difference's error is O(h^2) where the field is smooth: ~1e-7 relative).
+    const double scale = U / rt;
+    for (double z : {mid_taper, mid_taper + 0.2e-3, mid_jet, mid_jet - 0.2e-3}) {
+        const double Rf = flow.stream_radius(z);
+        for (double xi : {0.2, 0.35, 0.7, 0.9}) {
+            CAPTURE(z);
+            CAPTURE(xi);
+            const Vec3 x{0.6 * xi * Rf, 0.8 * xi * Rf, z};
+            CHECK(std::abs(divergence(flow, x, 1e-7)) < 1e-5 * scale);
+        }
+    }
+    // The conserving reading, same shape, is not divergence-free in the taper: the check can fail.
+    const ValveFlow axial_only(v, U, ValveFlow::Profile::conserving);
+    CHECK(std::abs(divergence(axial_only, {0.3 * v.passage_radius(mid_taper), 0, mid_taper}, 1e-7)) > 0.1 * scale);
+    // In the taper a streamline at r = xi R runs at u_r / u_z = xi dR/dz: along the cone at the wall.
+    const double R = v.passage_radius(mid_taper);
+    const Vec3 near_wall = flow.velocity({0, 0.99 * R, mid_taper}, 0);
+    CHECK(near_wall.y / near_wall.z == rel(-0.99 * (rb - rt) / v.taper_length));
+    // Past the exit the stream grows from r_t back to r_b over one taper length; the step's
+    // corner outside it is at rest, and the jet's axis runs faster than the bore's plug.
+    CHECK(flow.stream_radius(mid_jet) == rel(0.5 * (rb + rt)));
+    CHECK(flow.velocity({0, 0.5 * (rb + rt) * 1.001, mid_jet}, 0).z == 0.0);
+    CHECK(flow.velocity({0, 0, mid_jet}, 0).z == rel(U * std::pow(rb / (0.5 * (rb + rt)), 2)));
+    CHECK(flow.stream_radius(exit + 1.01 * v.taper_length) == rel(rb));
+    // One flow rate through every section (z-component quadrature over the stream).
+    for (double z : {-3e-3, mid_taper, 0.0, exit + 1e-6, mid_jet, 2e-3}) {
+        CAPTURE(z);
+        CHECK(flow.flow_rate_at(z) == rel(flow.reference_flow_rate()).epsilon(1e-6));
+    }
+}

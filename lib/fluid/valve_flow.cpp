@@ -15,11 +15,37 @@ Vec3 ValveFlow::unscaled(const Vec3& x) const {
         if (in_throat) return {0, 0, speed_ * (rb / rt) * (rb / rt)};
         return {0, 0, r <= rt ? speed_ : speed_ * (rb - r) / (rb - rt)};
     }
+    if (profile_ == Profile::conserving) return self_similar(x, R, 0.0);
+    return self_similar(x, stream_radius(x.z), stream_slope(x.z));
+}
+
+// The bore's plug-and-ramp shape on a stream of radius R carrying the bore's flow rate; with a
+// slope, the radial velocity that keeps r / R constant along a streamline (div u = 0).
+Vec3 ValveFlow::self_similar(const Vec3& x, double R, double slope) const {
+    const double r = std::hypot(x.x, x.y);
+    if (r >= R) return {};
+    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
     const double ratio = rb / R;
     const double plug = R * rt / rb;
     const double peak = speed_ * ratio * ratio;
     const double u = r <= plug ? peak : peak * (R - r) / (R - plug);
-    return {0, 0, u};
+    const double radial = u * slope / R;  // u_r / r
+    return {radial * x.x, radial * x.y, u};
+}
+
+double ValveFlow::stream_radius(double z) const {
+    const double exit = valve_.throat_end_z();
+    if (profile_ != Profile::converging || z <= exit) return valve_.passage_radius(z);
+    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
+    return std::min(rb, rt + (z - exit) * (rb - rt) / jet_length_);
+}
+
+double ValveFlow::stream_slope(double z) const {
+    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
+    const double exit = valve_.throat_end_z();
+    if (z > valve_.taper_start_z() && z < -0.5 * valve_.throat_length) return -(rb - rt) / valve_.taper_length;
+    if (profile_ == Profile::converging && z > exit && z < exit + jet_length_) return (rb - rt) / jet_length_;
+    return 0.0;
 }
 
 // In the bore: U pi r_t^2 for the plug plus the ramp's integral 2 pi U int (r_b - r)/(r_b - r_t) r dr.
@@ -31,7 +57,7 @@ double ValveFlow::reference_flow_rate() const {
 
 // Midpoint rule in r on 4000 rings: the profile is piecewise linear, so this is exact to ~1e-7.
 double ValveFlow::flow_rate_at(double z) const {
-    const double R = valve_.passage_radius(z);
+    const double R = valve_.passage_radius(z);  // the stream never leaves the passage
     const int n = 4000;
     double q = 0;
     for (int i = 0; i < n; ++i) {
@@ -52,6 +78,20 @@ double ValveFlow::drag_factor(const Vec3& x) const {
     const double k = std::floor((x.z - cells_lo_) / cell_length_);
     if (k < 0 || k >= static_cast<double>(drag_factors_.size())) return 1.0;
     return drag_factors_[static_cast<std::size_t>(k)];
+}
+
+ValveFlow::Profile valve_flow_profile(const std::string& name) {
+    if (name == "conserving") return ValveFlow::Profile::conserving;
+    if (name == "converging") return ValveFlow::Profile::converging;
+    return ValveFlow::Profile::source;
+}
+
+std::string valve_flow_profile_name(ValveFlow::Profile profile) {
+    switch (profile) {
+    case ValveFlow::Profile::conserving: return "conserving";
+    case ValveFlow::Profile::converging: return "converging";
+    default: return "source";
+    }
 }
 
 }  // namespace mrjam

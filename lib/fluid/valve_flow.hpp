@@ -18,10 +18,23 @@
 //        u_z = U (r_b / R)^2 (R - r)/(R - R r_t/r_b) up to the wall r = R,
 //    the same flow rate through every section: the fluid accelerates along the taper, so the
 //    grains meet the raised speed before the orifice.
+//  * `converging`: a flow that satisfies continuity, not only the flow rate. The conserving
+//    shape rides on the radius R_f(z) of the stream, with the radial velocity continuity asks
+//    of it: streamlines keep r / R_f fixed, so
+//        u_r = u_z r R_f'(z) / R_f(z),
+//    and div u = 0 exactly (the self-similar shape's axial deceleration is balanced by the
+//    inflow). In the taper the stream fills the passage (R_f = R), so the fluid next to the cone
+//    runs along it instead of into it. Past the orifice exit the stream re-opens as the taper
+//    mirrored (R_f grows from r_t to r_b over `jet_length`, the taper's length by default): at
+//    the throat's Reynolds number (~10-30 for this fluid) the expansion is close to reversible
+//    Stokes flow, and the fluid in the step's corner outside the stream is at rest. A periodic
+//    stretch must end beyond the jet: its seam joins the downstream profile to the upstream one. The two readings above stop the plug at
+//    the exit in one step, which piles fine grains up there.
 //
 // `scale` multiplies either: 1 for the prescribed flow, set by a pressure controller for the
 // pressure-driven option.
 #include <atomic>
+#include <string>
 #include <vector>
 
 #include "fluid/flow_field.hpp"
@@ -31,14 +44,20 @@ namespace mrjam {
 
 class ValveFlow final : public FlowField {
 public:
-    enum class Profile { source, conserving };
-    ValveFlow(ValveGeometry valve, double bore_speed, Profile profile = Profile::source)
-        : valve_(valve), speed_(bore_speed), profile_(profile) {}
+    enum class Profile { source, conserving, converging };
+    // `jet_length` (converging only): how far past the exit the stream re-opens; 0 for the taper's length.
+    ValveFlow(ValveGeometry valve, double bore_speed, Profile profile = Profile::source, double jet_length = 0)
+        : valve_(valve), speed_(bore_speed), profile_(profile), jet_length_(jet_length > 0 ? jet_length : valve.taper_length) {}
     Vec3 velocity(const Vec3& x, double) const override { return unscaled(x) * scale(); }
     Vec3 unscaled(const Vec3& x) const;  // the profile at scale 1
+    // Radius of the moving stream at z and its slope dR_f/dz (the passage's radius, except past
+    // the exit for `converging`).
+    double stream_radius(double z) const;
+    double stream_slope(double z) const;
     std::string name() const override { return "valve"; }
 
-    // Volumetric flow rate through the bore at scale 1 (for `conserving`, through every section), m^3/s.
+    // Volumetric flow rate through the bore at scale 1 (for `conserving` and `converging`, through
+    // every section), m^3/s.
     double reference_flow_rate() const;
     // Flow rate through the section at z at scale 1, m^3/s (quadrature of the profile).
     double flow_rate_at(double z) const;
@@ -46,6 +65,7 @@ public:
     void set_scale(double s) { scale_.store(s, std::memory_order_relaxed); }
     const ValveGeometry& valve() const { return valve_; }
     Profile profile() const { return profile_; }
+    double jet_length() const { return jet_length_; }
 
     // Hindered drag per axial cell (lib/jam/axial_resistance.hpp): cell k covers
     // [z_lo + k dz, z_lo + (k+1) dz); outside the grid, or before any is set, the factor is 1.
@@ -58,9 +78,15 @@ private:
     ValveGeometry valve_;
     double speed_;
     Profile profile_;
+    double jet_length_;
+    Vec3 self_similar(const Vec3& x, double R, double slope) const;
     std::atomic<double> scale_{1.0};
     double cells_lo_ = 0, cell_length_ = 0;
     std::vector<double> drag_factors_;
 };
+
+// The profiles' scene names ("source", "conserving", "converging"), both ways.
+ValveFlow::Profile valve_flow_profile(const std::string& name);
+std::string valve_flow_profile_name(ValveFlow::Profile profile);
 
 }  // namespace mrjam

@@ -251,11 +251,12 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                          {"partial", outcome.exit_status != 0}};
     r["field_switched_on_s"] = p.flow_time;
     r["flow_model"] = js.flow.pressure_driven
-                          ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the source's "
-                            "profile through a circuit resistance sized for the prescribed flow plus the grains' "
+                          ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the "
+                            "flow_profile through a circuit resistance sized for the prescribed flow plus the grains' "
                             "Kozeny-Carman resistance in axial cells"
-                          : "prescribed (the source's profile, fluid/valve_flow.hpp; Stokes drag)";
-    r["flow_profile"] = valve_flow && valve_flow->profile() == ValveFlow::Profile::conserving ? "conserving" : "source";
+                          : "prescribed (the flow_profile at the bore speed, fluid/valve_flow.hpp; Stokes drag)";
+    r["flow_profile"] = valve_flow ? valve_flow_profile_name(valve_flow->profile()) : "conserving";
+    if (valve_flow && valve_flow->profile() == ValveFlow::Profile::converging) r["jet_length_m"] = valve_flow->jet_length();
     // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
     // (the source tuned its flow so that this was about 100 kPa).
     r["arrested_bed_drag_pressure_Pa"] = valve_flow ? nlohmann::json(flow_state.arrested_pressure) : nlohmann::json(nullptr);

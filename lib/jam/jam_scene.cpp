@@ -122,7 +122,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
     // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
-    const std::string profile = fluid.choice("profile", {"source", "conserving"}, v.is_slot() ? "conserving" : "source");
+    const std::string profile = fluid.choice("profile", {"source", "conserving", "converging"}, v.is_slot() ? "conserving" : "source");
     if (v.is_slot() && profile != "conserving")
         fluid.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
     out.flow.pressure_driven = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
@@ -132,6 +132,23 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         fluid.fail("resistance_cell_length", "must be at least the largest grain's diameter (" +
                                                  std::to_string(out.largest_diameter * 1e6) +
                                                  " um): a cell's volume fraction is counted from grain centres");
+    // The converging profile's jet must re-open before the periodic seam, a couple of cells
+    // short of it so that the seam joins the bore's profile to itself (fluid/valve_flow.hpp).
+    double jet_length = 0;
+    if (profile == "converging") {
+        const double room = v.downstream_length - v.throat_end_z() - 2.0 * out.flow.cell_length;
+        if (fluid.has("jet_length")) {
+            jet_length = fluid.quantity("jet_length", units::length, std::nullopt, Bounds::positive());
+            if (jet_length > room)
+                fluid.fail("jet_length", "the stream must re-open two resistance cells before the modelled tube ends: at most " +
+                                             std::to_string(room * 1e3) + " mm here; shorten it or lengthen model/downstream_length");
+        } else {
+            if (!(room > 0))
+                fluid.fail("profile", "the converging jet has no room past the orifice exit; lengthen model/downstream_length");
+            jet_length = std::min(v.taper_length, room);  // the taper mirrored, if it fits
+        }
+    }
+    out.flow.jet_length = jet_length;
     // The resistance cells drive the circular orifice's profile (fluid/valve_flow.hpp); the
     // slot's profile (fluid/slot_valve_flow.hpp) has no pressure controller yet.
     if (out.flow.pressure_driven && v.is_slot())
@@ -242,6 +259,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                            {"placement", {{"method", "random"}, {"volume_fraction", fraction}, {"region", region(z0, z1, radius)}}}});
     const double throat_speed = v.is_slot() ? SlotValveFlow(v.slot(), bore_speed).plug_speed(0.0)
                                             : bore_speed * std::pow(rb / v.throat_radius(), 2);
+    json flow_json = {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}, {"profile", profile}};
+    if (profile == "converging") flow_json["jet_length"] = out.flow.jet_length;
     json output_json = {{"directory", directory}};
     if (snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", snapshot_every}};
     if (checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", checkpoint_every}};
@@ -251,7 +270,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
         {"materials", json::array({material})},
         {"contact", {{"model", "hertz_mindlin"}}},
-        {"fluid", {{"viscosity", viscosity}, {"flow", {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}, {"profile", profile}}}}},
+        {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
         {"walls", walls},
         {"grains", batches},
         {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}} : json{{"field", field_json}}},

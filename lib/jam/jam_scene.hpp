@@ -32,6 +32,7 @@ struct JamFlow {
     bool pressure_driven = false;
     double supply_pressure = 105e3;  // Pa
     double cell_length = 0;          // m, resistance cells (default: 2 largest-grain diameters)
+    double jet_length = 0;           // m, the converging profile's re-opening past the exit (0: other profiles)
 };
 
 struct JamScene {

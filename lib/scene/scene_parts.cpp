@@ -74,13 +74,21 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
         const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
         if (valve.is_slot()) {
             // The slot's profile is the conserving reading only (fluid/slot_valve_flow.hpp).
-            if (node.choice("profile", {"source", "conserving"}, "conserving") != "conserving")
+            if (node.choice("profile", {"source", "conserving", "converging"}, "conserving") != "conserving")
                 node.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
             flow = std::make_shared<SlotValveFlow>(valve.slot(), speed);
         } else {
-            const bool conserving = node.choice("profile", {"source", "conserving"}, "source") == "conserving";
-            flow = std::make_shared<ValveFlow>(valve, speed,
-                                               conserving ? ValveFlow::Profile::conserving : ValveFlow::Profile::source);
+            const std::string name = node.choice("profile", {"source", "conserving", "converging"}, "source");
+            double jet = 0;
+            if (name == "converging") {
+                jet = node.quantity("jet_length", units::length, valve.taper_length, Bounds::positive());
+                // The domain's periodic seam (if along z) must see the bore's profile on both sides.
+                if (valve.throat_end_z() + jet > valve.downstream_length * (1 + 1e-12))
+                    node.fail("jet_length", "the stream must re-open to the bore before the modelled tube ends (at most " +
+                                                std::to_string((valve.downstream_length - valve.throat_end_z()) * 1e3) +
+                                                " mm here); shorten it or lengthen valve/downstream_length");
+            }
+            flow = std::make_shared<ValveFlow>(valve, speed, valve_flow_profile(name), jet);
         }
     } else if (type == "uniform") {
         flow = std::make_shared<UniformFlow>(node.vector("velocity", units::velocity, std::nullopt));
