@@ -198,6 +198,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     // The converging jet must re-open before the periodic seam (the standard tier: 0.65 mm past
     // the exit, less two 88 um cells).
     refused("long_jet", {{"fluid", {{"profile", "converging"}, {"jet_length", "0.7 mm"}}}}, "/fluid/jet_length");
+    refused("jet_without_jet", {{"fluid", {{"jet_length", "0.2 mm"}}}}, "/fluid/jet_length");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }

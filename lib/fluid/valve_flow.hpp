@@ -28,8 +28,9 @@
 //    mirrored (R_f grows from r_t to r_b over `jet_length`, the taper's length by default): at
 //    the throat's Reynolds number (~10-30 for this fluid) the expansion is close to reversible
 //    Stokes flow, and the fluid in the step's corner outside the stream is at rest. A periodic
-//    stretch must end beyond the jet: its seam joins the downstream profile to the upstream one. The two readings above stop the plug at
-//    the exit in one step, which piles fine grains up there.
+//    stretch must end beyond the jet: its seam joins the downstream profile to the upstream one.
+//    The two readings above stop the plug at the exit in one step, which piles fine grains up
+//    there.
 //
 // `scale` multiplies either: 1 for the prescribed flow, set by a pressure controller for the
 // pressure-driven option.

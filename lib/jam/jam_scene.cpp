@@ -4,8 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
-#include <vector>
 #include <tuple>
+#include <vector>
 
 #include "fluid/slot_valve_flow.hpp"
 #include "magnetic/external_field.hpp"
@@ -136,6 +136,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The converging profile's jet must re-open before the periodic seam, a couple of cells
     // short of it so that the seam joins the bore's profile to itself (fluid/valve_flow.hpp).
     double jet_length = 0;
+    if (profile != "converging" && fluid.has("jet_length"))
+        fluid.fail("jet_length", "applies to the converging profile only; set fluid/profile to \"converging\" or drop it");
     if (profile == "converging") {
         const double room = v.downstream_length - v.throat_end_z() - 2.0 * out.flow.cell_length;
         if (fluid.has("jet_length")) {
