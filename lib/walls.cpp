@@ -104,10 +104,16 @@ bool Wall::touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) cons
 }
 
 bool Wall::touch_slot_passage(const Vec3& x, double r, double& overlap, Vec3& n) const {
-    const SlotContact c = slot_passage_contact(slot, x - point);
+    const SlotContact c = slot_passage_contact(slot, x - point, r);
     overlap = c.centre_in_fluid ? r - c.distance : r + c.distance;
     if (overlap <= 0) return false;
     n = c.normal;
+    if (c.corner_count == 0) return true;
+    // In a concave corner: the sum of every touched face's penetration vector.
+    Vec3 push = c.normal * overlap;
+    for (int i = 0; i < c.corner_count; ++i) push += c.corner[i].normal * (r - c.corner[i].distance);
+    overlap = norm(push);
+    n = push * (1.0 / overlap);
     return true;
 }
 

@@ -147,8 +147,26 @@ TEST_CASE("slot passage wall: overlap and normal on the faces, edges, lip and st
     }
     const Vec3 diagonal{std::sqrt(0.5), std::sqrt(0.5), 0};
     check_contact(wall, diagonal * (R - d) + Vec3{0, 0, zts + 0.1 * L}, r, delta, diagonal * -1.0);
-    // In the slot's concave corner the deeper of the two faces is the contact.
-    check_contact(wall, {hw - d, hh - (r - 0.5 * delta), 0}, r, delta, {-1, 0, 0});
+    // In the slot's concave corner (the x face meeting the y face) a grain pressed into both by
+    // delta and delta / 2 is pushed out of both: the sum of the two penetration vectors.
+    check_contact(wall, {hw - d, hh - (r - 0.5 * delta), 0}, r, delta * std::sqrt(1.25),
+                  Vec3{-1, -0.5, 0} * (1.0 / std::sqrt(1.25)));
+    // The step meeting the bore downstream (beside the slot, on the x axis): delta into the
+    // bore and 2 delta into the step face.
+    check_contact(wall, {R - d, 0, ze + (r - 2 * delta)}, r, delta * std::sqrt(5.0),
+                  Vec3{-1, 0, 2} * (1.0 / std::sqrt(5.0)));
+    // The bore meeting the x plate's tapered face, just downstream of the taper's start: the
+    // face's penetration adds to the bore's.
+    {
+        const double len = std::hypot(L, R - hw);
+        const Vec3 face_normal{-L / len, 0, -(R - hw) / len};  // into the fluid: to the axis, upstream
+        const Vec3 centre{R - d, 0, zts + 0.2 * r};
+        // Depth into the tapered face: r minus the centre's height above the face's plane.
+        const double height = dot(centre - Vec3{R, 0, zts}, face_normal);
+        REQUIRE(height < r);
+        const Vec3 push = Vec3{-1, 0, 0} * delta + face_normal * (r - height);
+        check_contact(wall, centre, r, norm(push), push * (1.0 / norm(push)));
+    }
     // A centre pushed 5 um into the x face: overlap r + 5 um, pushed back into the slot.
     check_contact(wall, {hw + 5e-6, 0, 0}, r, r + 5e-6, {-1, 0, 0});
     // No contact in the middle of the slot, of the taper and of the bore.
