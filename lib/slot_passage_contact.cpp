@@ -14,10 +14,10 @@ struct Point2 {
 
 struct PolygonHit {
     bool inside = false;
-    double distance = 0;  // to the boundary
-    Point2 direction{};   // unit: outside, from the nearest boundary point to p; inside, the outward normal of the
-                          // nearest edge
-    bool on_face = false; // outside: the nearest boundary point lies inside an edge, not at a vertex
+    double distance = 0;   // to the boundary
+    Point2 direction{};    // unit: outside, from the nearest boundary point to p; inside, the outward normal of the
+                           // nearest edge
+    bool on_face = false;  // outside: the nearest boundary point lies inside an edge, not at a vertex
 };
 
 // A convex polygon with vertices in clockwise order in the (a, z) plane (a right, z up);
@@ -68,7 +68,11 @@ SlotContact slot_passage_contact(const SlotOrifice& s, const Vec3& p, double rea
     double deepest = -1;
     Vec3 n_deepest{};
     // The five pieces as the centre sees them from the fluid: distance, normal, on a face.
-    struct Seen { double distance; Vec3 normal; bool on_face; };
+    struct Seen {
+        double distance;
+        Vec3 normal;
+        bool on_face;
+    };
     std::array<Seen, 5> seen{};
     int count = 0;
     auto piece = [&](bool inside, double distance, const Vec3& normal, bool on_face) {
@@ -117,7 +121,8 @@ SlotContact slot_passage_contact(const SlotOrifice& s, const Vec3& p, double rea
         return false;
     };
     for (int i = 0; i < count; ++i)
-        if (i != nearest && seen[i].on_face && seen[i].distance < reach && out.corner_count < 4 && !counted(seen[i].normal))
+        if (i != nearest && seen[i].on_face && seen[i].distance < reach && out.corner_count < 4 &&
+            !counted(seen[i].normal))
             out.corner[out.corner_count++] = {seen[i].distance, seen[i].normal};
     return out;
 }

@@ -24,7 +24,7 @@ json tiny_scene(const std::string& out, long checkpoint_every) {
     json scene = {{"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
                   {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
                   {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
-                  {"protocol", {{"flow_time", "0.03 ms"}, {"max_time", "0.03 ms"}, {"arrest_window", "0.008 ms"},
+                  {"protocol", {{"flow_time", "0.06 ms"}, {"max_time", "0.03 ms"}, {"arrest_window", "0.008 ms"},
                                 {"arrest_fraction", 0.95}, {"release_time", "0.015 ms"}, {"observe_every_steps", 20}}},
                   {"output", {{"directory", out}}}};
     if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;

@@ -10,14 +10,90 @@
 #include "jam/contact_clusters.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
+#include "jam/jam_protocol_state.hpp"
 #include "jam/jam_snapshots.hpp"
 #include "jam/steady_flow.hpp"
-#include "jam/throat_span.hpp"
 #include "jam/throat_flux.hpp"
+#include "jam/throat_span.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
 
 namespace mrjam {
+
+namespace {
+
+// The report's results: outcome, flux history, arch, and the carrier flow's model and state.
+void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
+                       const AxialResistance& resistance, const ValveFlow* valve_flow, bool incomplete) {
+    nlohmann::json history = nlohmann::json::array();
+    const auto& h = st.flux.history();
+    const std::size_t stride = std::max<std::size_t>(1, h.size() / 400);  // keep the report readable
+    for (std::size_t i = 0; i < h.size(); i += stride) history.push_back({h[i].first, h[i].second});
+    nlohmann::json& r = report["results"];
+    r["jammed"] = st.jammed;
+    r["time_to_arrest_s"] = st.jammed ? nlohmann::json(st.arrest_time) : nlohmann::json(nullptr);
+    r["grains_passed_before_arrest"] =
+        st.jammed ? nlohmann::json(st.passed_at_arrest - st.passed_at_switch_on) : nlohmann::json(nullptr);
+    r["grains_passed_total"] = st.flux.passed();
+    r["no_field_flux_grains_per_s"] = st.base_rate;
+    r["released"] = st.jammed ? nlohmann::json(st.released) : nlohmann::json(nullptr);
+    // Why the field period ended: an arrest, a steady flow (protocol/steady_window) or max_time.
+    r["field_period_ended_by"] = st.jammed    ? "arrest"
+                                 : st.steady  ? "steady flow"
+                                 : incomplete ? "interruption"
+                                              : "max_time";
+    // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
+    r["outcome"] = st.undetermined            ? "undetermined"
+                   : incomplete && !st.jammed ? "incomplete (no arrest yet; resume with mrjam jam --resume)"
+                   : incomplete               ? "incomplete (arrested; release not yet tested)"
+                   : !st.jammed               ? "fail-no-jam"
+                   : st.released              ? "success"
+                                              : "fail-irreversible";
+    if (st.steady)
+        report["warnings"].push_back(
+            "the field period ended on a steady flow (protocol/steady_window), which was "
+            "taken as no jam: arrests can come late after a long steady flow (on the bundled "
+            "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
+            "outcome with steady_window 0");
+    if (st.undetermined)
+        report["warnings"].push_back(
+            "no grains crossed the throat during the no-field flow, so an arrest cannot be "
+            "told from a blocked start: lengthen protocol/flow_time or check the flow");
+    r["largest_cluster"] = view.largest;
+    r["clusters"] = view.count;
+    r["largest_cluster_spans_throat"] = view.spans;
+    r["clusters_seen_at"] = st.arrest_view.valid ? "arrest" : "end of run";
+    r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history}, {"partial", incomplete}};
+    r["field_switched_on_s"] = js.protocol.flow_time;
+    r["flow_model"] = js.flow.pressure_driven
+                          ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the "
+                            "flow_profile through a circuit resistance sized for the prescribed flow plus the grains' "
+                            "Kozeny-Carman resistance in axial cells"
+                          : "prescribed (the flow_profile at the bore speed, fluid/valve_flow.hpp; Stokes drag)";
+    r["flow_profile"] = valve_flow ? valve_flow_profile_name(valve_flow->profile()) : "conserving";
+    if (valve_flow && valve_flow->profile() == ValveFlow::Profile::converging)
+        r["jet_length_m"] = valve_flow->jet_length();
+    // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
+    // (the source tuned its flow so that this was about 100 kPa).
+    r["arrested_bed_drag_pressure_Pa"] =
+        valve_flow ? nlohmann::json(st.flow_state.arrested_pressure) : nlohmann::json(nullptr);
+    if (js.flow.pressure_driven) {
+        r["supply_pressure_Pa"] = js.flow.supply_pressure;
+        r["resistance_cells"] = resistance.cells();
+        r["final_flow_scale"] = st.flow_state.scale;
+        r["final_densest_cell_fraction"] = st.flow_state.max_fraction;
+        nlohmann::json sh = nlohmann::json::array();
+        const std::size_t step = std::max<std::size_t>(1, st.flow_history.size() / 200);
+        for (std::size_t i = 0; i < st.flow_history.size(); i += step)
+            sh.push_back({st.flow_history[i].time, st.flow_history[i].scale, st.flow_history[i].stretch_pressure,
+                          st.flow_history[i].max_fraction});
+        r["flow_history"] = {{"columns", {"time_s", "flow_scale", "stretch_pressure_Pa", "densest_cell_fraction"}},
+                             {"rows", sh}};
+    }
+    r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+}
+
+}  // namespace
 
 JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& options) {
     nlohmann::json engine = js.engine_scene;
@@ -44,10 +120,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     auto field = std::make_shared<SwitchedField>(s.magnetic.field, p.flow_time);
     s.magnetic.field = field;
 
-    ThroatFlux flux(0.0);
-    double base_rate = 0, arrest_time = -1, release_start = -1;
-    long passed_at_switch_on = 0, passed_at_arrest = 0;
-    bool jammed = false, released = false, undetermined = false, steady = false;
+    JamProtocolState st;
     RunOptions run;
     run.mode = "jam";
     run.progress = options.progress;
@@ -62,23 +135,23 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     const AxialResistance resistance(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
                                      js.valve.downstream_length, js.flow.cell_length, js.feed_fraction,
                                      js.flow.supply_pressure);
-    AxialResistanceState flow_state;
-    std::vector<FlowSample> flow_history;
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
-        flux.observe(sys);
+        st.flux.observe(sys);
         if (!valve_flow) return;
-        flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
+        st.flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
         if (js.flow.pressure_driven)
-            flow_history.push_back({sys.time, flow_state.scale, flow_state.stretch_pressure, flow_state.max_fraction});
+            st.flow_history.push_back(
+                {sys.time, st.flow_state.scale, st.flow_state.stretch_pressure, st.flow_state.max_fraction});
         // A line per 0.1 ms of simulated time: what a user watches for is the flux.
         if (options.progress && sys.time >= next_report) {
             next_report = sys.time + 0.1e-3;
-            const double rate = flux.rate(0.1e-3);
+            const double rate = st.flux.rate(0.1e-3);
             std::cerr << "[jam] t = " << sys.time * 1e3 << " ms: grain flux " << rate << " /s";
-            if (base_rate > 0) std::cerr << " (" << std::lround(100 * rate / base_rate) << " % of the no-field flux)";
+            if (st.base_rate > 0)
+                std::cerr << " (" << std::lround(100 * rate / st.base_rate) << " % of the no-field flux)";
             if (js.flow.pressure_driven)
-                std::cerr << ", flow scale " << flow_state.scale << ", densest cell " << flow_state.max_fraction;
+                std::cerr << ", flow scale " << st.flow_state.scale << ", densest cell " << st.flow_state.max_fraction;
             std::cerr << "\n";
         }
     };
@@ -86,39 +159,38 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         const double t = sys.time;
         if (stage == 0) return false;
         if (stage == 1) {
-            if (base_rate == 0) {
+            if (st.base_rate == 0) {
                 // The no-field flux over the second half of the flow period: the reference.
-                base_rate = flux.rate_between(0.5 * p.flow_time, p.flow_time);
-                passed_at_switch_on = flux.passed();
-                if (!(base_rate > 0)) {  // nothing to compare an arrest with
-                    undetermined = true;
+                st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
+                st.passed_at_switch_on = st.flux.passed();
+                if (!(st.base_rate > 0)) {  // nothing to compare an arrest with
+                    st.undetermined = true;
                     return true;
                 }
             }
             if (t - p.flow_time < p.arrest_window) return false;
-            if (flux.rate(p.arrest_window) < p.arrest_fraction * base_rate) {
-                jammed = true;
-                arrest_time = t - p.arrest_window - p.flow_time;  // the low-flux window's start
-                passed_at_arrest = flux.passed();
+            if (st.flux.rate(p.arrest_window) < p.arrest_fraction * st.base_rate) {
+                st.jammed = true;
+                st.arrest_time = t - p.arrest_window - p.flow_time;  // the low-flux window's start
+                st.passed_at_arrest = st.flux.passed();
                 field->switch_off_at(t);
-                release_start = t;
+                st.release_start = t;
                 return true;
             }
             // Or a steady flow that has not arrested: no jam, without waiting for max_time.
-            steady = steady_flow(flux, flow_history, p.flow_time, {p.steady_window, p.steady_tolerance}).steady;
-            return steady;
+            st.steady =
+                steady_flow(st.flux, st.flow_history, p.flow_time, {p.steady_window, p.steady_tolerance}).steady;
+            return st.steady;
         }
         // Release: the field is off; has the flux come back?
-        if (!jammed || undetermined) return true;
-        if (t - release_start < p.arrest_window) return false;
-        if (flux.rate(p.arrest_window) > p.release_fraction * base_rate) {
-            released = true;
+        if (!st.jammed || st.undetermined) return true;
+        if (t - st.release_start < p.arrest_window) return false;
+        if (st.flux.rate(p.arrest_window) > p.release_fraction * st.base_rate) {
+            st.released = true;
             return true;
         }
         return false;
     };
-    struct ClusterView { long largest = 0, count = 0; bool spans = false, valid = false; };
-    ClusterView arrest_view;
     auto look_at_clusters = [&](const System& sys) {
         const ContactClusters clusters = contact_clusters(sys);
         ClusterView v;
@@ -132,62 +204,39 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     };
     // ---- Snapshots and checkpoint/resume (kept apart from the flow controller above) ----
     JamSnapshots snapshots;
-    if (!options.snapshot_directory.empty()) snapshots = JamSnapshots(options.snapshot_directory, options.snapshot_every, seed);
+    if (!options.snapshot_directory.empty())
+        snapshots = JamSnapshots(options.snapshot_directory, options.snapshot_every, seed);
     // Everything the protocol carries from one observation to the next that the engine's
     // checkpoint does not: restored below, it makes the resumed run take the same decisions.
+    // The protocol's state plus what lives in the field, the flow and the snapshot writer.
     auto protocol_state = [&] {
         const double off = field->switch_off_time();
-        nlohmann::json fh = nlohmann::json::array();
-        for (const auto& f : flow_history) fh.push_back({f.time, f.scale, f.stretch_pressure, f.max_fraction});
-        return nlohmann::json{
-            {"seed", seed}, {"flux", flux.save()}, {"base_rate", base_rate}, {"arrest_time", arrest_time},
-            {"release_start", release_start}, {"passed_at_switch_on", passed_at_switch_on}, {"passed_at_arrest", passed_at_arrest},
-            {"jammed", jammed}, {"released", released}, {"undetermined", undetermined}, {"steady", steady},
-            {"field_off_s", std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr)},
-            {"flow_scale", valve_flow ? valve_flow->scale() : 1.0},
-            {"drag_factors", valve_flow ? valve_flow->drag_factors() : std::vector<double>{}},
-            {"flow_state", {flow_state.arrested_pressure, flow_state.stretch_pressure, flow_state.max_fraction,
-                            flow_state.max_drag_factor}},
-            {"flow_history", fh}, {"snapshots", snapshots.save()},
-            {"arrest_clusters", {arrest_view.valid, arrest_view.largest, arrest_view.count, arrest_view.spans}}};
+        nlohmann::json state = st.save();
+        state["seed"] = seed;
+        state["field_off_s"] = std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr);
+        state["drag_factors"] = valve_flow ? valve_flow->drag_factors() : std::vector<double>{};
+        state["snapshots"] = snapshots.save();
+        return state;
     };
     ProtocolPosition start;
     if (resuming) {
-        const nlohmann::json& st = checkpoint.state;
-        flux.restore(st.at("flux"));
-        base_rate = st.at("base_rate");
-        arrest_time = st.at("arrest_time");
-        release_start = st.at("release_start");
-        passed_at_switch_on = st.at("passed_at_switch_on");
-        passed_at_arrest = st.at("passed_at_arrest");
-        jammed = st.at("jammed");
-        released = st.at("released");
-        undetermined = st.at("undetermined");
-        steady = st.value("steady", false);  // checkpoints before the steady-flow test have none
-        if (!st.at("field_off_s").is_null()) field->switch_off_at(st["field_off_s"].get<double>());
+        const nlohmann::json& saved = checkpoint.state;
+        st.restore(saved);
+        if (!saved.at("field_off_s").is_null()) field->switch_off_at(saved["field_off_s"].get<double>());
         if (valve_flow) {
             // The cells' factors and scale as the last observation left them: the steps up to the
             // next observation use them.
-            valve_flow->set_scale(st.at("flow_scale").get<double>());
-            const auto factors = st.at("drag_factors").get<std::vector<double>>();
+            valve_flow->set_scale(st.flow_state.scale);
+            const auto factors = saved.at("drag_factors").get<std::vector<double>>();
             if (!factors.empty()) resistance.apply(*valve_flow, factors);
         }
-        const auto fs = st.at("flow_state").get<std::vector<double>>();
-        flow_state.scale = st.at("flow_scale").get<double>();
-        flow_state.arrested_pressure = fs.at(0);
-        flow_state.stretch_pressure = fs.at(1);
-        flow_state.max_fraction = fs.at(2);
-        flow_state.max_drag_factor = fs.at(3);
-        for (const auto& row : st.at("flow_history"))
-            flow_history.push_back({row.at(0).get<double>(), row.at(1).get<double>(), row.at(2).get<double>(),
-                                    row.at(3).get<double>()});
-        snapshots.restore(st.at("snapshots"));
-        const auto& ac = st.at("arrest_clusters");
-        arrest_view = {ac.at(1).get<long>(), ac.at(2).get<long>(), ac.at(3).get<bool>(), ac.at(0).get<bool>()};
+        snapshots.restore(saved.at("snapshots"));
         start = checkpoint.header.position;
         run.resumed_stage_log = checkpoint.stage_log;
     }
-    run.checkpoint_state = [&] { return nlohmann::json{{"protocol", protocol_state()}, {"campaign", options.campaign}}; };
+    run.checkpoint_state = [&] {
+        return nlohmann::json{{"protocol", protocol_state()}, {"campaign", options.campaign}};
+    };
     auto observe_all = [&](const System& sys, std::size_t stage, long step) {
         observer(sys, stage, step);
         snapshots.observe(sys);
@@ -196,11 +245,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     // clusters, whether the largest spans the throat, and the picture are taken then.
     auto protocol_finished = run.stage_finished;
     run.stage_finished = [&](const System& sys, std::size_t stage) {
-        const bool was_jammed = jammed;
+        const bool was_jammed = st.jammed;
         const bool done = protocol_finished(sys, stage);
-        if (jammed && !was_jammed) {
+        if (st.jammed && !was_jammed) {
             snapshots.write_tagged(sys, "arrest");
-            arrest_view = look_at_clusters(sys);
+            st.arrest_view = look_at_clusters(sys);
         }
         return done;
     };
@@ -211,71 +260,14 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     JamOutcome out;
     out.report = outcome.report;
     out.exit_status = outcome.exit_status;
-    out.jammed = jammed;
-    out.time_to_arrest = arrest_time;
+    out.jammed = st.jammed;
+    out.time_to_arrest = st.arrest_time;
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
-    const ClusterView view = arrest_view.valid ? arrest_view : look_at_clusters(s);
-    nlohmann::json history = nlohmann::json::array();
-    const auto& h = flux.history();
-    const std::size_t stride = std::max<std::size_t>(1, h.size() / 400);  // keep the report readable
-    for (std::size_t i = 0; i < h.size(); i += stride) history.push_back({h[i].first, h[i].second});
-    nlohmann::json& r = out.report["results"];
-    r["jammed"] = jammed;
-    r["time_to_arrest_s"] = jammed ? nlohmann::json(arrest_time) : nlohmann::json(nullptr);
-    r["grains_passed_before_arrest"] = jammed ? nlohmann::json(passed_at_arrest - passed_at_switch_on) : nlohmann::json(nullptr);
-    r["grains_passed_total"] = flux.passed();
-    r["no_field_flux_grains_per_s"] = base_rate;
-    r["released"] = jammed ? nlohmann::json(released) : nlohmann::json(nullptr);
-    // Why the field period ended: an arrest, a steady flow (protocol/steady_window) or max_time.
-    r["field_period_ended_by"] = jammed ? "arrest" : steady ? "steady flow" : incomplete ? "interruption" : "max_time";
-    // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
-    r["outcome"] = undetermined                 ? "undetermined"
-                   : incomplete && !jammed      ? "incomplete (no arrest yet; resume with mrjam jam --resume)"
-                   : incomplete                 ? "incomplete (arrested; release not yet tested)"
-                   : !jammed                    ? "fail-no-jam"
-                   : released                   ? "success"
-                                                : "fail-irreversible";
-    if (steady)
-        out.report["warnings"].push_back("the field period ended on a steady flow (protocol/steady_window), which was "
-                                         "taken as no jam: arrests can come late after a long steady flow (on the bundled "
-                                         "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
-                                         "outcome with steady_window 0");
-    if (undetermined)
-        out.report["warnings"].push_back("no grains crossed the throat during the no-field flow, so an arrest cannot be "
-                                         "told from a blocked start: lengthen protocol/flow_time or check the flow");
-    r["largest_cluster"] = view.largest;
-    r["clusters"] = view.count;
-    r["largest_cluster_spans_throat"] = view.spans;
-    r["clusters_seen_at"] = arrest_view.valid ? "arrest" : "end of run";
-    r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history},
-                         {"partial", outcome.exit_status != 0}};
-    r["field_switched_on_s"] = p.flow_time;
-    r["flow_model"] = js.flow.pressure_driven
-                          ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the "
-                            "flow_profile through a circuit resistance sized for the prescribed flow plus the grains' "
-                            "Kozeny-Carman resistance in axial cells"
-                          : "prescribed (the flow_profile at the bore speed, fluid/valve_flow.hpp; Stokes drag)";
-    r["flow_profile"] = valve_flow ? valve_flow_profile_name(valve_flow->profile()) : "conserving";
-    if (valve_flow && valve_flow->profile() == ValveFlow::Profile::converging) r["jet_length_m"] = valve_flow->jet_length();
-    // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
-    // (the source tuned its flow so that this was about 100 kPa).
-    r["arrested_bed_drag_pressure_Pa"] = valve_flow ? nlohmann::json(flow_state.arrested_pressure) : nlohmann::json(nullptr);
-    if (js.flow.pressure_driven) {
-        r["supply_pressure_Pa"] = js.flow.supply_pressure;
-        r["resistance_cells"] = resistance.cells();
-        r["final_flow_scale"] = flow_state.scale;
-        r["final_densest_cell_fraction"] = flow_state.max_fraction;
-        nlohmann::json sh = nlohmann::json::array();
-        const std::size_t step = std::max<std::size_t>(1, flow_history.size() / 200);
-        for (std::size_t i = 0; i < flow_history.size(); i += step)
-            sh.push_back({flow_history[i].time, flow_history[i].scale, flow_history[i].stretch_pressure,
-                          flow_history[i].max_fraction});
-        r["flow_history"] = {{"columns", {"time_s", "flow_scale", "stretch_pressure_Pa", "densest_cell_fraction"}},
-                             {"rows", sh}};
-    }
-    r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+    const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
+    write_jam_results(out.report, st, view, js, resistance, valve_flow.get(), incomplete);
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
-    if (!options.picture_path.empty() && s.particles.size() > 0) out.report["outputs"]["throat_picture"] = options.picture_path;
+    if (!options.picture_path.empty() && s.particles.size() > 0)
+        out.report["outputs"]["throat_picture"] = options.picture_path;
     return out;
 }
 
