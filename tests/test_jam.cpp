@@ -301,6 +301,10 @@ TEST_CASE("jam: a steady flow ends the field period before max_time") {
     // observation later, against 0.5 ms of max_time.
     CHECK(field_on["ended_early"] == true);
     CHECK(field_on["end_time_s"].get<double>() < 0.3e-3 + 0.08e-3);
+    // The performance figures count the steps really run, not those the early end skipped.
+    long stepped = 0;
+    for (const auto& stage : res["stages"]) stepped += stage["steps"].get<long>();
+    CHECK(report["performance"]["steps_run"].get<long>() == stepped);
 }
 
 }  // TEST_SUITE

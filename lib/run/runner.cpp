@@ -153,7 +153,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     long done_before = 0;
     for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k) done_before += scene.stages[k].steps;
     done_before += pos.step_in_stage;
-    const long start_step_count = done_before;
+    long steps_advanced = 0;  // steps this call really ran (done_before also counts skipped ones, for the ETA)
     const std::size_t n = s.particles.size();
 
     bool ended_early = false;
@@ -185,6 +185,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 advance_steps(s, chunk);
                 i += chunk;
                 done_before += chunk;
+                steps_advanced += chunk;
                 pos.step_in_stage = i;
                 const bool observation = every > 0 && s.step % every == 0;
                 if (observer && observation) observer(s, k, i);
@@ -205,7 +206,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 }
                 if (options.progress && seconds_since(last_progress) > scene.output.progress_interval_s) {
                     const double elapsed = seconds_since(t0);
-                    const double rate = (done_before - start_step_count) / std::max(elapsed, 1e-9);
+                    const double rate = steps_advanced / std::max(elapsed, 1e-9);
                     std::fprintf(stderr, "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%%), t = %.4g s, %.3g grain-steps/s, ETA %.0f s\n",
                                  options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i, st.steps,
                                  100.0 * done_before / std::max(total, 1L), s.time, rate * n,
@@ -238,7 +239,7 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                      checkpoint.c_str());
     }
     const double wall = seconds_since(t0);
-    const long steps_run = done_before - start_step_count;
+    const long steps_run = steps_advanced;
     report["status"] = status;
     report["partial"] = status != "complete";
     report["results"] = state_summary(s);
