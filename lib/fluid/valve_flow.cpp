@@ -88,9 +88,12 @@ ValveFlow::Profile valve_flow_profile(const std::string& name) {
 
 std::string valve_flow_profile_name(ValveFlow::Profile profile) {
     switch (profile) {
-    case ValveFlow::Profile::conserving: return "conserving";
-    case ValveFlow::Profile::converging: return "converging";
-    default: return "source";
+        case ValveFlow::Profile::conserving:
+            return "conserving";
+        case ValveFlow::Profile::converging:
+            return "converging";
+        default:
+            return "source";
     }
 }
 

@@ -48,7 +48,10 @@ public:
     enum class Profile { source, conserving, converging };
     // `jet_length` (converging only): how far past the exit the stream re-opens; 0 for the taper's length.
     ValveFlow(ValveGeometry valve, double bore_speed, Profile profile = Profile::source, double jet_length = 0)
-        : valve_(valve), speed_(bore_speed), profile_(profile), jet_length_(jet_length > 0 ? jet_length : valve.taper_length) {}
+        : valve_(valve),
+          speed_(bore_speed),
+          profile_(profile),
+          jet_length_(jet_length > 0 ? jet_length : valve.taper_length) {}
     Vec3 velocity(const Vec3& x, double) const override { return unscaled(x) * scale(); }
     Vec3 unscaled(const Vec3& x) const;  // the profile at scale 1
     // Radius of the moving stream at z and its slope dR_f/dz (the passage's radius, except past

@@ -20,7 +20,9 @@ namespace {
 
 // The source's two mass tables (section 3.4.4). As printed, the percentages sum to 122; mrjam
 // reads them as relative mass (= volume, one density) shares and normalises them to 1.
-struct MassTable { std::vector<double> diameters, mass; };
+struct MassTable {
+    std::vector<double> diameters, mass;
+};
 MassTable preset_table(const std::string& name) {
     const std::vector<double> mass{44, 35, 24.2, 13.2, 5.6};
     if (name == "44um") return {{44e-6, 38.9e-6, 33.8e-6, 28.7e-6, 23.6e-6}, mass};
@@ -28,7 +30,10 @@ MassTable preset_table(const std::string& name) {
 }
 
 // Slab thickness (in largest-grain diameters) and modelled tube length per tier.
-struct TierSettings { double slab_diameters; double upstream, downstream; };
+struct TierSettings {
+    double slab_diameters;
+    double upstream, downstream;
+};
 TierSettings tier_settings(const std::string& tier) {
     if (tier == "quick") return {3.0, 1.0e-3, 0.5e-3};
     if (tier == "paper") return {0.0, 2.0e-3, 1.0e-3};  // the full bore
@@ -90,7 +95,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         table.mass = grains.quantity_list("mass_fractions", units::dimensionless, Bounds::non_negative());
         if (table.diameters.empty()) grains.fail("diameters", "the size table is empty; give at least one diameter");
         if (table.mass.size() != table.diameters.size())
-            grains.fail("mass_fractions", "needs one entry per diameter (" + std::to_string(table.diameters.size()) + ")");
+            grains.fail("mass_fractions",
+                        "needs one entry per diameter (" + std::to_string(table.diameters.size()) + ")");
         if (std::accumulate(table.mass.begin(), table.mass.end(), 0.0) <= 0)
             grains.fail("mass_fractions", "must not all be zero");
     } else {
@@ -106,7 +112,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                              " um); widen it or use finer grains");
     if (v.is_slot() && out.largest_diameter >= v.slot_width)
         throw SceneError("/valve/slot_width", "the slot is not wider than the largest grain (" +
-                                                  std::to_string(out.largest_diameter * 1e6) + " um); widen it or use finer grains");
+                                                  std::to_string(out.largest_diameter * 1e6) +
+                                                  " um); widen it or use finer grains");
 
     // Material (the source's contact properties; restitution and Poisson's ratio not printed).
     SceneNode mat = root.object("material");
@@ -123,12 +130,14 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
     // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
-    const std::string profile = fluid.choice("profile", {"source", "conserving", "converging"}, v.is_slot() ? "conserving" : "source");
+    const std::string profile =
+        fluid.choice("profile", {"source", "conserving", "converging"}, v.is_slot() ? "conserving" : "source");
     if (v.is_slot() && profile != "conserving")
         fluid.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
     out.flow.pressure_driven = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
     out.flow.supply_pressure = fluid.quantity("supply_pressure", units::pressure, 105e3, Bounds::positive());
-    out.flow.cell_length = fluid.quantity("resistance_cell_length", units::length, 2.0 * out.largest_diameter, Bounds::positive());
+    out.flow.cell_length =
+        fluid.quantity("resistance_cell_length", units::length, 2.0 * out.largest_diameter, Bounds::positive());
     if (out.flow.cell_length < out.largest_diameter)
         fluid.fail("resistance_cell_length", "must be at least the largest grain's diameter (" +
                                                  std::to_string(out.largest_diameter * 1e6) +
@@ -137,17 +146,20 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // short of it so that the seam joins the bore's profile to itself (fluid/valve_flow.hpp).
     double jet_length = 0;
     if (profile != "converging" && fluid.has("jet_length"))
-        fluid.fail("jet_length", "applies to the converging profile only; set fluid/profile to \"converging\" or drop it");
+        fluid.fail("jet_length",
+                   "applies to the converging profile only; set fluid/profile to \"converging\" or drop it");
     if (profile == "converging") {
         const double room = v.downstream_length - v.throat_end_z() - 2.0 * out.flow.cell_length;
         if (fluid.has("jet_length")) {
             jet_length = fluid.quantity("jet_length", units::length, std::nullopt, Bounds::positive());
             if (jet_length > room)
-                fluid.fail("jet_length", "the stream must re-open two resistance cells before the modelled tube ends: at most " +
-                                             std::to_string(room * 1e3) + " mm here; shorten it or lengthen model/downstream_length");
+                fluid.fail("jet_length",
+                           "the stream must re-open two resistance cells before the modelled tube ends: at most " +
+                               std::to_string(room * 1e3) + " mm here; shorten it or lengthen model/downstream_length");
         } else {
             if (!(room > 0))
-                fluid.fail("profile", "the converging jet has no room past the orifice exit; lengthen model/downstream_length");
+                fluid.fail("profile",
+                           "the converging jet has no room past the orifice exit; lengthen model/downstream_length");
             jet_length = std::min(v.taper_length, room);  // the taper mirrored, if it fits
         }
     }
@@ -155,7 +167,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The resistance cells drive the circular orifice's profile (fluid/valve_flow.hpp); the
     // slot's profile (fluid/slot_valve_flow.hpp) has no pressure controller yet.
     if (out.flow.pressure_driven && v.is_slot())
-        fluid.fail("flow", "the pressure-driven flow is modelled for circular orifices only; use \"prescribed\" with a slot");
+        fluid.fail("flow",
+                   "the pressure-driven flow is modelled for circular orifices only; use \"prescribed\" with a slot");
     fluid.finish();
 
     // Field: uniform across the valve (y) or a map from `mrjam magnetics`.
@@ -185,12 +198,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         }();
         const Vec3 lo = map.lower_corner(), hi = map.upper_corner();
         const double tol = 1e-9;
-        if (lo.x > -hx + tol || hi.x < hx - tol || lo.y > -rb + tol || hi.y < rb - tol || lo.z > -v.upstream_length + tol ||
-            hi.z < v.downstream_length - tol)
-            throw SceneError("/field/file", "the field map does not cover the modelled valve (x " + std::to_string(-hx) +
-                                                "..." + std::to_string(hx) + ", y +-" + std::to_string(rb) + ", z " +
-                                                std::to_string(-v.upstream_length) + "..." +
-                                                std::to_string(v.downstream_length) +
+        if (lo.x > -hx + tol || hi.x < hx - tol || lo.y > -rb + tol || hi.y < rb - tol ||
+            lo.z > -v.upstream_length + tol || hi.z < v.downstream_length - tol)
+            throw SceneError("/field/file", "the field map does not cover the modelled valve (x " +
+                                                std::to_string(-hx) + "..." + std::to_string(hx) + ", y +-" +
+                                                std::to_string(rb) + ", z " + std::to_string(-v.upstream_length) +
+                                                "..." + std::to_string(v.downstream_length) +
                                                 " m); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
     }
@@ -203,8 +216,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     p.arrest_window = protocol.quantity("arrest_window", units::time, p.arrest_window, Bounds::positive());
     p.arrest_fraction = protocol.number("arrest_fraction", p.arrest_fraction, Bounds::any());
     if (!(p.arrest_fraction > 0 && p.arrest_fraction < 1))
-        protocol.fail("arrest_fraction", "must lie in (0, 1): arrest is flux below this share of the no-field flux "
-                                         "(zero would never be reached by a noisy count)");
+        protocol.fail("arrest_fraction",
+                      "must lie in (0, 1): arrest is flux below this share of the no-field flux "
+                      "(zero would never be reached by a noisy count)");
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);
@@ -212,7 +226,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     p.steady_window = protocol.quantity("steady_window", units::time, p.steady_window, Bounds::non_negative());
     p.steady_tolerance = protocol.number("steady_tolerance", p.steady_tolerance, Bounds::open(0.0, 1.0));
     if (p.steady_window > 0.5 * p.max_time)
-        protocol.fail("steady_window", "two windows must fit in max_time: give at most half of it, or 0 to run to max_time");
+        protocol.fail("steady_window",
+                      "two windows must fit in max_time: give at most half of it, or 0 to run to max_time");
     protocol.finish();
 
     SceneNode output = root.object("output");
@@ -226,9 +241,13 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The engine scene.
     const double d_up = v.upstream_length, d_down = v.downstream_length;
     const double inset = 1e-9;
-    json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter}, {"wall_thickness", v.wall_thickness},
-                     {"constriction_diameter", v.constriction_diameter}, {"taper_length", v.taper_length},
-                     {"throat_length", v.throat_length}, {"upstream_length", d_up}, {"downstream_length", d_down}};
+    json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter},
+                     {"wall_thickness", v.wall_thickness},
+                     {"constriction_diameter", v.constriction_diameter},
+                     {"taper_length", v.taper_length},
+                     {"throat_length", v.throat_length},
+                     {"upstream_length", d_up},
+                     {"downstream_length", d_down}};
     if (v.is_slot()) {
         valve_si["orifice"] = "slot";
         valve_si["slot_width"] = v.slot_width;
@@ -236,7 +255,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
     if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb) {
         walls.push_back({{"name", "slab_low"}, {"type", "plane"}, {"point", vec(-hx, 0, 0)}, {"normal", vec(1, 0, 0)}});
-        walls.push_back({{"name", "slab_high"}, {"type", "plane"}, {"point", vec(hx, 0, 0)}, {"normal", vec(-1, 0, 0)}});
+        walls.push_back(
+            {{"name", "slab_high"}, {"type", "plane"}, {"point", vec(hx, 0, 0)}, {"normal", vec(-1, 0, 0)}});
     }
     // Grains start at the feed fraction everywhere in the passage (a box inside the slab's
     // chord, or a cylinder for the full bore, per slice), so grains cross the throat from the
@@ -244,14 +264,18 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     auto region = [&](double z0, double z1, double radius) {
         if (radius == 0) {  // the slot's straight part, in the slab if the slot is wider
             const double sx = std::min(0.5 * v.slot_width, hx), sy = v.throat_radius();
-            return json{{"shape", "box"}, {"lo", vec(-sx + inset, -sy + inset, z0)}, {"hi", vec(sx - inset, sy - inset, z1)}};
+            return json{
+                {"shape", "box"}, {"lo", vec(-sx + inset, -sy + inset, z0)}, {"hi", vec(sx - inset, sy - inset, z1)}};
         }
         const double y = std::sqrt(std::max(0.0, radius * radius - hx * hx));
         if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb)
-            return json{{"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
-        return json{{"shape", "cylinder"}, {"axis", "z"}, {"base", vec(0, 0, z0)}, {"radius", radius}, {"length", z1 - z0}};
+            return json{
+                {"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
+        return json{
+            {"shape", "cylinder"}, {"axis", "z"}, {"base", vec(0, 0, z0)}, {"radius", radius}, {"length", z1 - z0}};
     };
-    json size = {{"distribution", "table"}, {"diameters", table.diameters}, {"frequencies", table.mass}, {"basis", "volume"}};
+    json size = {
+        {"distribution", "table"}, {"diameters", table.diameters}, {"frequencies", table.mass}, {"basis", "volume"}};
     // The circular taper is filled as a staircase of slices two largest grains long, each as wide
     // as the cone at its narrow end, so the feed fraction holds in the taper too (within the
     // staircase's wedges, ~5 % of the taper's volume) and the stretch as a whole carries the
@@ -272,8 +296,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     slices.emplace_back(v.throat_end_z(), d_down, rb);
     json batches = json::array();
     for (const auto& [z0, z1, radius] : slices)
-        batches.push_back({{"material", "iron"}, {"size", size},
-                           {"placement", {{"method", "random"}, {"volume_fraction", fraction}, {"region", region(z0, z1, radius)}}}});
+        batches.push_back(
+            {{"material", "iron"},
+             {"size", size},
+             {"placement", {{"method", "random"}, {"volume_fraction", fraction}, {"region", region(z0, z1, radius)}}}});
     const double throat_speed = v.is_slot() ? SlotValveFlow(v.slot(), bore_speed).plug_speed(0.0)
                                             : bore_speed * std::pow(rb / v.throat_radius(), 2);
     json flow_json = {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}, {"profile", profile}};
@@ -281,21 +307,21 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     json output_json = {{"directory", directory}};
     if (snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", snapshot_every}};
     if (checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", checkpoint_every}};
-    out.engine_scene = {
-        {"description", "mrjam jam: generated from the jam scene"},
-        {"seed", seed},
-        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
-        {"materials", json::array({material})},
-        {"contact", {{"model", "hertz_mindlin"}}},
-        {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
-        {"walls", walls},
-        {"grains", batches},
-        {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}} : json{{"field", field_json}}},
-        {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
-        {"stages", json::array({{{"name", "flow"}, {"duration", p.flow_time}},
-                                {{"name", "field_on"}, {"duration", p.max_time}},
-                                {{"name", "release"}, {"duration", std::max(p.release_time, 1e-12)}}})},
-        {"output", output_json}};
+    out.engine_scene = {{"description", "mrjam jam: generated from the jam scene"},
+                        {"seed", seed},
+                        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
+                        {"materials", json::array({material})},
+                        {"contact", {{"model", "hertz_mindlin"}}},
+                        {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
+                        {"walls", walls},
+                        {"grains", batches},
+                        {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}}
+                                                : json{{"field", field_json}}},
+                        {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
+                        {"stages", json::array({{{"name", "flow"}, {"duration", p.flow_time}},
+                                                {{"name", "field_on"}, {"duration", p.max_time}},
+                                                {{"name", "release"}, {"duration", std::max(p.release_time, 1e-12)}}})},
+                        {"output", output_json}};
     return out;
 }
 

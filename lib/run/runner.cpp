@@ -17,9 +17,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 int raft_index(const System& s, const std::string& name) {
     for (std::size_t r = 0; r < s.rafts.size(); ++r)
@@ -33,7 +31,9 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
     if (membership_changes) {
         for (const auto& name : st.release) {
             const int r = raft_index(s, name);
-            if (r < 0) throw std::runtime_error("stage '" + st.name + "' releases raft '" + name + "', which was never formed");
+            if (r < 0)
+                throw std::runtime_error("stage '" + st.name + "' releases raft '" + name +
+                                         "', which was never formed");
             for (auto& m : s.particles.raft)
                 if (m == r) m = -1;
             s.rafts[r].members = 0;
@@ -67,7 +67,9 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
     for (const auto& f : st.form_rafts) s.rafts[raft_index(s, f.name)].velocity = f.velocity;
     for (const auto& [name, v] : st.raft_velocities) {
         const int r = raft_index(s, name);
-        if (r < 0) throw std::runtime_error("stage '" + st.name + "' sets the velocity of raft '" + name + "', which was never formed");
+        if (r < 0)
+            throw std::runtime_error("stage '" + st.name + "' sets the velocity of raft '" + name +
+                                     "', which was never formed");
         s.rafts[r].velocity = v;
     }
     for (const auto& [name, v] : st.wall_velocities)
@@ -98,14 +100,10 @@ std::string checkpoint_path_of(const Scene& scene) {
 nlohmann::json timestep_json(const Scene& scene) {
     const TimestepLimits& l = scene.limits;
     auto finite_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    return {{"used_s", scene.system.dt},
-            {"rayleigh_s", finite_or_null(l.rayleigh)},
-            {"hertz_s", finite_or_null(l.hertz)},
-            {"drag_relaxation_s", finite_or_null(l.drag)},
-            {"critical_s", l.critical},
-            {"limiting", l.limiting},
-            {"stable_limit_s", l.stable_limit},
-            {"characteristic_speed_m_s", scene.characteristic_speed}};
+    return {{"used_s", scene.system.dt},          {"rayleigh_s", finite_or_null(l.rayleigh)},
+            {"hertz_s", finite_or_null(l.hertz)}, {"drag_relaxation_s", finite_or_null(l.drag)},
+            {"critical_s", l.critical},           {"limiting", l.limiting},
+            {"stable_limit_s", l.stable_limit},   {"characteristic_speed_m_s", scene.characteristic_speed}};
 }
 
 }  // namespace
@@ -195,11 +193,13 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                     break;
                 }
                 if (scene.output.snapshots && s.step % scene.output.snapshot_every == 0) {
-                    const auto path = std::filesystem::path(scene.output.directory) /
-                                      ("snapshot_" + std::to_string(s.step) + snapshot_extension(scene.output.snapshot_format));
+                    const auto path =
+                        std::filesystem::path(scene.output.directory) /
+                        ("snapshot_" + std::to_string(s.step) + snapshot_extension(scene.output.snapshot_format));
                     write_snapshot(path.string(), scene.output.snapshot_format, s.particles, s.domain, s.step, s.time);
                 }
-                const bool ck_steps = scene.output.checkpoint_every_steps > 0 && s.step % scene.output.checkpoint_every_steps == 0;
+                const bool ck_steps =
+                    scene.output.checkpoint_every_steps > 0 && s.step % scene.output.checkpoint_every_steps == 0;
                 if (ck_steps || seconds_since(last_checkpoint) > scene.output.checkpoint_every_seconds) {
                     write_checkpoint(checkpoint, scene.resolved, s, pos, history_of(stage_log));
                     last_checkpoint = Clock::now();
@@ -207,22 +207,33 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 if (options.progress && seconds_since(last_progress) > scene.output.progress_interval_s) {
                     const double elapsed = seconds_since(t0);
                     const double rate = steps_advanced / std::max(elapsed, 1e-9);
-                    std::fprintf(stderr, "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%%), t = %.4g s, %.3g grain-steps/s, ETA %.0f s\n",
-                                 options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i, st.steps,
-                                 100.0 * done_before / std::max(total, 1L), s.time, rate * n,
-                                 (total - done_before) / std::max(rate, 1e-9));
+                    std::fprintf(
+                        stderr,
+                        "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%%), t = %.4g s, %.3g grain-steps/s, ETA %.0f s\n",
+                        options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i, st.steps,
+                        100.0 * done_before / std::max(total, 1L), s.time, rate * n,
+                        (total - done_before) / std::max(rate, 1e-9));
                     last_progress = Clock::now();
                 }
                 if (interrupt_requested()) break;
             }
             // A stage its criterion has just ended is finished even if Ctrl-C came in the same
             // step: a checkpoint inside it would make a resumed run test the criterion again.
-            if (interrupt_requested() && !ended_early && i < st.steps) { status = "interrupted"; break; }
-            stage_log.push_back({{"name", st.name}, {"steps", i}, {"ended_early", ended_early}, {"end_time_s", s.time},
+            if (interrupt_requested() && !ended_early && i < st.steps) {
+                status = "interrupted";
+                break;
+            }
+            stage_log.push_back({{"name", st.name},
+                                 {"steps", i},
+                                 {"ended_early", ended_early},
+                                 {"end_time_s", s.time},
                                  {"state", state_summary(s)}});
             ended_early = false;
             pos = ProtocolPosition{k + 1, 0, false};
-            if (interrupt_requested() && k + 1 < scene.stages.size()) { status = "interrupted"; break; }
+            if (interrupt_requested() && k + 1 < scene.stages.size()) {
+                status = "interrupted";
+                break;
+            }
         }
     } catch (const BlowUp& e) {
         status = "failed";
@@ -244,9 +255,10 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     report["partial"] = status != "complete";
     report["results"] = state_summary(s);
     report["results"]["stages"] = stage_log;
-    report["performance"] = {{"steps_run", steps_run},
-                             {"grain_steps_per_s", steps_run * static_cast<double>(n) / std::max(wall, 1e-9)},
-                             {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, steps_run * static_cast<double>(n))}};
+    report["performance"] = {
+        {"steps_run", steps_run},
+        {"grain_steps_per_s", steps_run * static_cast<double>(n) / std::max(wall, 1e-9)},
+        {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, steps_run * static_cast<double>(n))}};
     report["wall_time_s"] = wall;
     if (!options.report_path.empty()) write_json_file(options.report_path, report);
     return outcome;

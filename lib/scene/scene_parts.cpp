@@ -40,8 +40,10 @@ SizeDistribution read_size_distribution(SceneNode node) {
     } else if (kind == "lognormal") {
         const double median = node.quantity("median_diameter", units::length, std::nullopt, Bounds::positive());
         const double sigma = node.number("sigma_ln", std::nullopt, Bounds::positive());
-        const double dmin = node.quantity("min_diameter", units::length, median * std::exp(-3 * sigma), Bounds::positive());
-        const double dmax = node.quantity("max_diameter", units::length, median * std::exp(3 * sigma), Bounds::positive());
+        const double dmin =
+            node.quantity("min_diameter", units::length, median * std::exp(-3 * sigma), Bounds::positive());
+        const double dmax =
+            node.quantity("max_diameter", units::length, median * std::exp(3 * sigma), Bounds::positive());
         if (!(dmax > dmin)) node.fail("max_diameter", "must exceed min_diameter");
         result = SizeDistribution::lognormal(median, sigma, dmin, dmax);
     } else {
@@ -84,9 +86,10 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
                 jet = node.quantity("jet_length", units::length, valve.taper_length, Bounds::positive());
                 // The domain's periodic seam (if along z) must see the bore's profile on both sides.
                 if (valve.throat_end_z() + jet > valve.downstream_length * (1 + 1e-12))
-                    node.fail("jet_length", "the stream must re-open to the bore before the modelled tube ends (at most " +
-                                                std::to_string((valve.downstream_length - valve.throat_end_z()) * 1e3) +
-                                                " mm here); shorten it or lengthen valve/downstream_length");
+                    node.fail("jet_length",
+                              "the stream must re-open to the bore before the modelled tube ends (at most " +
+                                  std::to_string((valve.downstream_length - valve.throat_end_z()) * 1e3) +
+                                  " mm here); shorten it or lengthen valve/downstream_length");
             }
             flow = std::make_shared<ValveFlow>(valve, speed, valve_flow_profile(name), jet);
         }
@@ -178,7 +181,8 @@ ValveGeometry read_valve(SceneNode node) {
     if (node.has("constriction") && node.has("constriction_diameter"))
         node.fail("constriction", "give either a preset name (constriction) or constriction_diameter, not both");
     if (node.has("constriction"))
-        v.constriction_diameter = constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
+        v.constriction_diameter =
+            constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
     else
         v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
     v.orifice = node.choice("orifice", {"circular", "slot"}, "circular") == "slot" ? Orifice::slot : Orifice::circular;
