@@ -80,6 +80,8 @@ double ValveFlow::drag_factor(const Vec3& x) const {
     return drag_factors_[static_cast<std::size_t>(k)];
 }
 
+std::vector<std::string> valve_flow_profile_names() { return {"source", "conserving", "converging"}; }
+
 ValveFlow::Profile valve_flow_profile(const std::string& name) {
     if (name == "conserving") return ValveFlow::Profile::conserving;
     if (name == "converging") return ValveFlow::Profile::converging;

@@ -89,7 +89,9 @@ private:
     std::vector<double> drag_factors_;
 };
 
-// The profiles' scene names ("source", "conserving", "converging"), both ways.
+// The profiles' scene names ("source", "conserving", "converging"), both ways, and the list a
+// scene's `profile` key is checked against.
+std::vector<std::string> valve_flow_profile_names();
 ValveFlow::Profile valve_flow_profile(const std::string& name);
 std::string valve_flow_profile_name(ValveFlow::Profile profile);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fluid/slot_valve_flow.hpp"
+#include "fluid/valve_flow.hpp"
 #include "magnetic/external_field.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
@@ -131,7 +132,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
     // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
     const std::string profile =
-        fluid.choice("profile", {"source", "conserving", "converging"}, v.is_slot() ? "conserving" : "source");
+        fluid.choice("profile", valve_flow_profile_names(), v.is_slot() ? "conserving" : "source");
     if (v.is_slot() && profile != "conserving")
         fluid.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
     out.flow.pressure_driven = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";

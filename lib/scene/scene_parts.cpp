@@ -76,11 +76,11 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
         const double speed = node.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
         if (valve.is_slot()) {
             // The slot's profile is the conserving reading only (fluid/slot_valve_flow.hpp).
-            if (node.choice("profile", {"source", "conserving", "converging"}, "conserving") != "conserving")
+            if (node.choice("profile", valve_flow_profile_names(), "conserving") != "conserving")
                 node.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
             flow = std::make_shared<SlotValveFlow>(valve.slot(), speed);
         } else {
-            const std::string name = node.choice("profile", {"source", "conserving", "converging"}, "source");
+            const std::string name = node.choice("profile", valve_flow_profile_names(), "source");
             double jet = 0;
             if (name == "converging") {
                 jet = node.quantity("jet_length", units::length, valve.taper_length, Bounds::positive());
