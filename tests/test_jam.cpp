@@ -199,6 +199,15 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     // the exit, less two 88 um cells).
     refused("long_jet", {{"fluid", {{"profile", "converging"}, {"jet_length", "0.7 mm"}}}}, "/fluid/jet_length");
     refused("jet_without_jet", {{"fluid", {{"jet_length", "0.2 mm"}}}}, "/fluid/jet_length");
+    // The coupled flow solves its own profile, needs rings a mean grain wide in the throat (the
+    // 30x throat's 0.66 mm over 2 x 19.0 um: at most 17), a supply above what clear fluid needs,
+    // and a circular orifice.
+    refused("coupled_profile", {{"fluid", {{"flow", "coupled"}, {"profile", "source"}}}}, "/fluid/profile");
+    refused("coupled_rings", {{"fluid", {{"flow", "coupled"}, {"rings", 19}}}}, "/fluid/rings");
+    refused("rings_without_coupled", {{"fluid", {{"rings", 8}}}}, "/fluid/rings");
+    refused("coupled_pressure", {{"fluid", {{"flow", "coupled"}, {"supply_pressure", "1 kPa"}}}}, "/fluid/supply_pressure");
+    refused("coupled_slot", {{"valve", {{"orifice", "slot"}, {"slot_width", "0.6 mm"}}}, {"fluid", {{"flow", "coupled"}}}},
+            "/fluid/flow");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }
@@ -213,6 +222,20 @@ TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, sh
     longer["model"] = {{"downstream_length", "1.5 mm"}};
     CHECK(read_jam_scene(longer, "standard", ".").flow.jet_length == rel(0.8e-3));
     CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() == rel(0.8e-3));
+}
+
+TEST_CASE("jam scene: the coupled flow's rings, wall gap and jet") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}, {"fluid", {{"flow", "coupled"}}}};
+    const JamScene js = read_jam_scene(scene, "quick", ".");
+    CHECK(js.flow.coupled);
+    CHECK(js.flow.pressure_driven);
+    // The 44 um table's volume-weighted mean radius: sum of d/2 x mass over the printed 122 %.
+    const double mean = 0.5 * (44 * 44 + 38.9 * 35 + 33.8 * 24.2 + 28.7 * 13.2 + 23.6 * 5.6) / 122.0 * 1e-6;
+    CHECK(js.flow.wall_gap == rel(mean));
+    // Rings: one largest grain (44 um) wide in the 0.66 mm throat, 15, within the 18 allowed.
+    CHECK(js.flow.rings == 15);
+    // The jet: the quick tier's 0.5 mm downstream, exit at 0.1 mm, less two 88 um cells.
+    CHECK(js.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
 }
 
 TEST_CASE("jam scene: the stretch starts at the mix's volume fraction, the taper included") {

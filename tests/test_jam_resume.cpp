@@ -149,6 +149,39 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     CHECK(bad.err.find("--resume") != std::string::npos);
 }
 
+TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
+    // The tiny scene with the two-way coupled flow (its jet needs 0.35 mm past the throat centre):
+    // the slices' speeds and drag factors between observations live in the checkpoint's protocol
+    // state, so a run resumed with the field on ends as the uninterrupted one.
+    TempDir dir;
+    auto scene = [&](const std::string& out, long every) {
+        json s = tiny_scene(out, every);
+        s["fluid"] = {{"flow", "coupled"}, {"supply_pressure", "10 kPa"}};
+        s["model"]["downstream_length"] = "0.35 mm";
+        return s;
+    };
+    const Result full = jam(dir, "full", scene(dir.file("out_full"), 0), "");
+    CAPTURE(full.err);
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    CHECK(a["results"]["flow_model"].get<std::string>().rfind("coupled", 0) == 0);
+    REQUIRE(a["results"]["coupled_slices"]["rows"].size() > 5);
+    const std::vector<long> steps = stage_steps(a);
+    REQUIRE(steps.size() == 3);
+    const long every = steps[0] + steps[1] / 2;
+    REQUIRE(2 * every > steps[0] + steps[1] + steps[2]);
+    const Result cut = jam(dir, "cut", scene(dir.file("out_cut"), every), "");
+    REQUIRE(cut.exit_code == 0);
+    const std::string ck = dir.file("out_cut/checkpoint.mrjam");
+    REQUIRE(fs::exists(ck));
+    const Result resumed = mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file("resumed.json")) + " --quiet");
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    const json b = json::parse(slurp(dir.file("resumed.json")));
+    json ra = comparable(a)["results"], rb = comparable(b)["results"];
+    CHECK(rb == ra);
+}
+
 TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
     TempDir dir;
     const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");

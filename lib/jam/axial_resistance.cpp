@@ -41,13 +41,15 @@ AxialResistance::AxialResistance(const ValveGeometry& valve, double slab_half_th
     }
 }
 
-double AxialResistance::drag_factor(double phi) const {
+double kozeny_carman_factor(double phi, double feed) {
     // Capped below random close packing: a cell's count can exceed it when grain centres
     // crowd a cell boundary, and the factor must stay finite for the explicit step.
     phi = std::min(phi, 0.62);
-    const double kc = phi * (1 - feed_) * (1 - feed_) / (feed_ * (1 - phi) * (1 - phi));
+    const double kc = phi * (1 - feed) * (1 - feed) / (feed * (1 - phi) * (1 - phi));
     return std::max(1.0, kc);
 }
+
+double AxialResistance::drag_factor(double phi) const { return kozeny_carman_factor(phi, feed_); }
 
 AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, bool drive) const {
     const std::size_t n = volume_.size();

@@ -62,6 +62,10 @@ private:
     std::vector<double> volume_;  // fluid volume of each cell
 };
 
+// Kozeny-Carman's per-grain drag at volume fraction phi relative to the feed fraction (>= 1;
+// phi capped at 0.62, below random close packing, so that the explicit step's drag stays bounded).
+double kozeny_carman_factor(double phi, double feed_fraction);
+
 // Area of the disc of radius r inside the slab |x| < h (the whole disc if h = 0 or h >= r).
 double slab_section(double r, double h);
 

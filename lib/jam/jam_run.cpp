@@ -8,6 +8,7 @@
 #include "integrator.hpp"
 #include "jam/axial_resistance.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/coupled_flow.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/jam_protocol_state.hpp"
@@ -24,7 +25,7 @@ namespace {
 
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
 void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
-                       const AxialResistance& resistance, const ValveFlow* valve_flow, bool incomplete) {
+                       std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete) {
     nlohmann::json history = nlohmann::json::array();
     const auto& h = st.flux.history();
     const std::size_t stride = std::max<std::size_t>(1, h.size() / 400);  // keep the report readable
@@ -65,21 +66,29 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     r["clusters_seen_at"] = st.arrest_view.valid ? "arrest" : "end of run";
     r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history}, {"partial", incomplete}};
     r["field_switched_on_s"] = js.protocol.flow_time;
-    r["flow_model"] = js.flow.pressure_driven
+    r["flow_model"] = js.flow.coupled
+                          ? "coupled (lib/jam/coupled_flow.hpp): the supply pressure drives the fluid through a "
+                            "circuit resistance sized for the bore flow in clear fluid plus the stretch, where each "
+                            "slice's radial Brinkman equation with the grains' Kozeny-Carman drag sets the profile "
+                            "and the fluid feels the grains' drag reversed"
+                      : js.flow.pressure_driven
                           ? "pressure-driven (lib/jam/axial_resistance.hpp): the supply pressure drives the "
                             "flow_profile through a circuit resistance sized for the prescribed flow plus the grains' "
                             "Kozeny-Carman resistance in axial cells"
                           : "prescribed (the flow_profile at the bore speed, fluid/valve_flow.hpp; Stokes drag)";
-    r["flow_profile"] = valve_flow ? valve_flow_profile_name(valve_flow->profile()) : "conserving";
+    r["flow_profile"] = js.flow.coupled ? "brinkman (solved)"
+                        : valve_flow    ? valve_flow_profile_name(valve_flow->profile())
+                                        : "conserving";
     if (valve_flow && valve_flow->profile() == ValveFlow::Profile::converging)
         r["jet_length_m"] = valve_flow->jet_length();
     // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
     // (the source tuned its flow so that this was about 100 kPa).
     r["arrested_bed_drag_pressure_Pa"] =
-        valve_flow ? nlohmann::json(st.flow_state.arrested_pressure) : nlohmann::json(nullptr);
+        valve_flow || js.flow.coupled ? nlohmann::json(st.flow_state.arrested_pressure) : nlohmann::json(nullptr);
     if (js.flow.pressure_driven) {
         r["supply_pressure_Pa"] = js.flow.supply_pressure;
-        r["resistance_cells"] = resistance.cells();
+        r["resistance_cells"] = resistance_cells;
+        if (js.flow.coupled) r["rings_per_slice"] = js.flow.rings;
         r["final_flow_scale"] = st.flow_state.scale;
         r["final_densest_cell_fraction"] = st.flow_state.max_fraction;
         nlohmann::json sh = nlohmann::json::array();
@@ -110,6 +119,24 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         engine = checkpoint.header.resolved_scene;
     }
     Scene scene = build_scene(engine, build);
+    // The coupled flow replaces the engine scene's prescribed one before anything reads it.
+    std::unique_ptr<CoupledFlow> coupled;
+    if (js.flow.coupled) {
+        CoupledFlowSettings c;
+        c.slab_half_thickness = js.slab_half_thickness;
+        c.z_lo = -js.valve.upstream_length;
+        c.z_hi = js.valve.downstream_length;
+        c.cell_length = js.flow.cell_length;
+        c.rings = js.flow.rings;
+        c.feed_fraction = js.feed_fraction;
+        c.supply_pressure = js.flow.supply_pressure;
+        c.viscosity = scene.system.physics.viscosity;
+        c.bore_speed = js.flow.bore_speed;
+        c.wall_gap = js.flow.wall_gap;
+        c.jet_length = js.flow.jet_length;
+        coupled = std::make_unique<CoupledFlow>(js.valve, c);
+        scene.system.flow = coupled->field();
+    }
     if (resuming) restore_state(options.resume_checkpoint, scene.system);
     choose_timestep(scene);
     if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
@@ -138,8 +165,12 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
         st.flux.observe(sys);
-        if (!valve_flow) return;
-        st.flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
+        if (coupled)
+            st.flow_state = coupled->update(sys);
+        else if (valve_flow)
+            st.flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
+        else
+            return;
         if (js.flow.pressure_driven)
             st.flow_history.push_back(
                 {sys.time, st.flow_state.scale, st.flow_state.stretch_pressure, st.flow_state.max_fraction});
@@ -215,6 +246,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         state["seed"] = seed;
         state["field_off_s"] = std::isfinite(off) ? nlohmann::json(off) : nlohmann::json(nullptr);
         state["drag_factors"] = valve_flow ? valve_flow->drag_factors() : std::vector<double>{};
+        if (coupled)
+            state["coupled_flow"] = {{"axial_speed", coupled->field()->axial_speed()},
+                                     {"drag_factors", coupled->field()->drag_factors()}};
         state["snapshots"] = snapshots.save();
         return state;
     };
@@ -229,6 +263,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
             valve_flow->set_scale(st.flow_state.scale);
             const auto factors = saved.at("drag_factors").get<std::vector<double>>();
             if (!factors.empty()) resistance.apply(*valve_flow, factors);
+        }
+        if (coupled) {
+            const nlohmann::json& cf = saved.at("coupled_flow");
+            coupled->field()->set_field(cf.at("axial_speed").get<std::vector<double>>(),
+                                        cf.at("drag_factors").get<std::vector<double>>());
         }
         snapshots.restore(saved.at("snapshots"));
         start = checkpoint.header.position;
@@ -264,7 +303,18 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     out.time_to_arrest = st.arrest_time;
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
-    write_jam_results(out.report, st, view, js, resistance, valve_flow.get(), incomplete);
+    write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),
+                      incomplete);
+    if (coupled) {
+        // Where the stretch spends the pressure, slice by slice, as the run ended.
+        nlohmann::json rows = nlohmann::json::array();
+        const auto& slices = coupled->field()->slices();
+        for (std::size_t k = 0; k < slices.size(); ++k)
+            rows.push_back({slices[k].centre(), slices[k].radius, coupled->slice_fraction()[k], coupled->slice_pressure()[k]});
+        out.report["results"]["coupled_slices"] = {
+            {"columns", {"z_m", "passage_radius_m", "volume_fraction", "pressure_drop_Pa"}}, {"rows", rows}};
+        out.report["results"]["clear_stretch_pressure_Pa"] = coupled->clear_stretch_pressure();
+    }
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
     if (!options.picture_path.empty() && s.particles.size() > 0)
         out.report["outputs"]["throat_picture"] = options.picture_path;

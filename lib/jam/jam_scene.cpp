@@ -9,6 +9,7 @@
 
 #include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
+#include "jam/coupled_flow.hpp"
 #include "magnetic/external_field.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
@@ -131,12 +132,19 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
     // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
+    const std::string flow_model = fluid.choice("flow", {"prescribed", "pressure", "coupled"}, "prescribed");
+    out.flow.coupled = flow_model == "coupled";
+    out.flow.pressure_driven = flow_model != "prescribed";
+    // The coupled flow solves its own profile (lib/jam/coupled_flow.hpp); the engine scene keeps
+    // the source's for the time step's characteristic speed only.
+    if (out.flow.coupled && fluid.has("profile"))
+        fluid.fail("profile", "the coupled flow computes the fluid's profile from the grains; drop fluid/profile");
     const std::string profile =
         fluid.choice("profile", valve_flow_profile_names(), v.is_slot() ? "conserving" : "source");
     if (v.is_slot() && profile != "conserving")
         fluid.fail("profile", "a slot orifice has the conserving profile only; use \"conserving\"");
-    out.flow.pressure_driven = fluid.choice("flow", {"prescribed", "pressure"}, "prescribed") == "pressure";
     out.flow.supply_pressure = fluid.quantity("supply_pressure", units::pressure, 105e3, Bounds::positive());
+    out.flow.bore_speed = bore_speed;
     out.flow.cell_length =
         fluid.quantity("resistance_cell_length", units::length, 2.0 * out.largest_diameter, Bounds::positive());
     if (out.flow.cell_length < out.largest_diameter)
@@ -146,10 +154,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The converging profile's jet must re-open before the periodic seam, a couple of cells
     // short of it so that the seam joins the bore's profile to itself (fluid/valve_flow.hpp).
     double jet_length = 0;
-    if (profile != "converging" && fluid.has("jet_length"))
-        fluid.fail("jet_length",
-                   "applies to the converging profile only; set fluid/profile to \"converging\" or drop it");
-    if (profile == "converging") {
+    const bool has_jet = profile == "converging" || (out.flow.coupled && !v.is_slot());
+    if (!has_jet && fluid.has("jet_length"))
+        fluid.fail("jet_length", "applies to the converging profile and the coupled flow only; set fluid/profile to "
+                                 "\"converging\" or fluid/flow to \"coupled\", or drop it");
+    if (has_jet) {
         const double room = v.downstream_length - v.throat_end_z() - 2.0 * out.flow.cell_length;
         if (fluid.has("jet_length")) {
             jet_length = fluid.quantity("jet_length", units::length, std::nullopt, Bounds::positive());
@@ -165,11 +174,37 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         }
     }
     out.flow.jet_length = jet_length;
+    if (out.flow.coupled && !v.is_slot()) {
+        // Rings about a largest grain wide in the throat (at least 4, at most 32 per slice), and
+        // the wall ring counted to the mix's volume-weighted mean radius from the wall.
+        const double total = std::accumulate(table.mass.begin(), table.mass.end(), 0.0);
+        double mean_radius = 0;
+        for (std::size_t i = 0; i < table.diameters.size(); ++i) mean_radius += 0.5 * table.diameters[i] * table.mass[i] / total;
+        out.flow.wall_gap = mean_radius;
+        const int widest = static_cast<int>(std::floor(v.throat_radius() / (2.0 * mean_radius)));
+        const int rings_default = std::clamp(static_cast<int>(std::floor(v.throat_radius() / out.largest_diameter)), 4, 32);
+        out.flow.rings = static_cast<int>(fluid.integer("rings", std::min(rings_default, widest), 2, 256));
+        if (out.flow.rings > widest)
+            fluid.fail("rings", "at most " + std::to_string(widest) +
+                                    " here: a ring must be at least a mean grain diameter wide in the throat, "
+                                    "or grain centres cannot fill it");
+        if (!(bore_speed > 0))
+            fluid.fail("bore_speed", "must be positive with the coupled flow: it sets the circuit's open flow rate");
+        const double q0 = ValveFlow(v, bore_speed).reference_flow_rate();
+        const double clear =
+            clear_stretch_pressure(v, -v.upstream_length, v.downstream_length, jet_length, viscosity, q0);
+        if (out.flow.supply_pressure <= clear)
+            fluid.fail("supply_pressure", "must exceed the " + std::to_string(clear) +
+                                              " Pa the clear fluid needs through the modelled stretch at the bore "
+                                              "flow; raise it or lower bore_speed");
+    } else if (fluid.has("rings")) {
+        fluid.fail("rings", "applies to the coupled flow only; set fluid/flow to \"coupled\" or drop it");
+    }
     // The resistance cells drive the circular orifice's profile (fluid/valve_flow.hpp); the
     // slot's profile (fluid/slot_valve_flow.hpp) has no pressure controller yet.
     if (out.flow.pressure_driven && v.is_slot())
-        fluid.fail("flow",
-                   "the pressure-driven flow is modelled for circular orifices only; use \"prescribed\" with a slot");
+        fluid.fail("flow", "the pressure-driven and coupled flows are modelled for circular orifices only; use "
+                           "\"prescribed\" with a slot");
     fluid.finish();
 
     // Field: uniform across the valve (y) or a map from `mrjam magnetics`.

@@ -27,10 +27,15 @@ struct JamProtocol {
 };
 
 // The carrier flow: the source's prescribed profile, or driven by the supply pressure through
-// the grains' Kozeny-Carman resistance on axial cells (lib/jam/axial_resistance.hpp).
+// the grains' Kozeny-Carman resistance on axial cells (lib/jam/axial_resistance.hpp), or driven by
+// it and two-way coupled, the fluid finding its way round the grains (lib/jam/coupled_flow.hpp).
 struct JamFlow {
-    bool pressure_driven = false;
+    bool pressure_driven = false;    // "pressure" or "coupled"
+    bool coupled = false;
+    int rings = 0;                   // coupled: rings per slice
+    double wall_gap = 0;             // coupled: the mix's volume-weighted mean radius, m
     double supply_pressure = 105e3;  // Pa
+    double bore_speed = 0.273;       // m/s, the source's speed in the bore (sets the open flow rate)
     double cell_length = 0;          // m, resistance cells (default: 2 largest-grain diameters)
     double jet_length = 0;           // m, the converging profile's re-opening past the exit (0: other profiles)
 };
