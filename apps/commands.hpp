@@ -12,5 +12,7 @@ void add_design_command(CLI::App& app, int& exit_status);     // apps/command_de
 void add_shear_command(CLI::App& app, int& exit_status);      // apps/command_shear.cpp, lib/shear/
 // `bench magnetic` and `bench magnetic-accuracy` (apps/bench_magnetic.cpp), registered under `bench`.
 void add_magnetic_bench_commands(CLI::App& bench, int& exit_status);
+// `bench flow` (apps/bench_flow.cpp): the valve's carrier flows, per call and per update.
+void add_flow_bench_command(CLI::App& bench, int& exit_status);
 
 }  // namespace mrjam::cli

@@ -39,7 +39,7 @@ std::size_t CoupledValveFlow::slice_at(double z) const {
 
 int CoupledValveFlow::ring_at(const Vec3& x) const {
     const double rf = stream_radius(x.z);
-    const double r = std::hypot(x.x, x.y);
+    const double r = std::sqrt(x.x * x.x + x.y * x.y);
     if (r >= rf && rf < valve_.passage_radius(x.z)) return -1;  // the jet's still corner
     return std::clamp(static_cast<int>(r / rf * rings_), 0, rings_ - 1);
 }
@@ -86,7 +86,7 @@ double CoupledValveFlow::slice_profile(std::size_t k, double xi) const {
 
 Vec3 CoupledValveFlow::velocity(const Vec3& x, double) const {
     const double R = stream_radius(x.z);
-    const double r = std::hypot(x.x, x.y);
+    const double r = std::sqrt(x.x * x.x + x.y * x.y);
     if (r >= R) return {};
     const double xi = r / R;
     const std::size_t k = slice_at(x.z);
