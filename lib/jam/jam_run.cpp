@@ -79,8 +79,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     r["flow_profile"] = js.flow.coupled ? "brinkman (solved)"
                         : valve_flow    ? valve_flow_profile_name(valve_flow->profile())
                                         : "conserving";
-    if (valve_flow && valve_flow->profile() == ValveFlow::Profile::converging)
-        r["jet_length_m"] = valve_flow->jet_length();
+    if ((valve_flow && valve_flow->profile() == ValveFlow::Profile::converging) || js.flow.coupled)
+        r["jet_length_m"] = js.flow.jet_length;
     // What the prescribed flow would push an arrested bed with: the cells' pressure drops summed
     // (the source tuned its flow so that this was about 100 kPa).
     r["arrested_bed_drag_pressure_Pa"] =
@@ -100,6 +100,34 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                              {"rows", sh}};
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+}
+
+std::unique_ptr<CoupledFlow> make_coupled_flow(const JamScene& js, double viscosity) {
+    CoupledFlowSettings c;
+    c.slab_half_thickness = js.slab_half_thickness;
+    c.z_lo = -js.valve.upstream_length;
+    c.z_hi = js.valve.downstream_length;
+    c.cell_length = js.flow.cell_length;
+    c.rings = js.flow.rings;
+    c.feed_fraction = js.feed_fraction;
+    c.supply_pressure = js.flow.supply_pressure;
+    c.viscosity = viscosity;
+    c.bore_speed = js.flow.bore_speed;
+    c.wall_gap = js.flow.wall_gap;
+    c.jet_length = js.flow.jet_length;
+    return std::make_unique<CoupledFlow>(js.valve, c);
+}
+
+// Where the coupled flow spent the pressure, slice by slice, at its last update.
+void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled) {
+    nlohmann::json rows = nlohmann::json::array();
+    const auto& slices = coupled.field()->slices();
+    if (coupled.slice_pressure().size() == slices.size())  // not before the first update
+        for (std::size_t k = 0; k < slices.size(); ++k)
+            rows.push_back({slices[k].centre(), slices[k].radius, coupled.slice_fraction()[k], coupled.slice_pressure()[k]});
+    results["coupled_slices"] = {{"columns", {"z_m", "stream_radius_m", "volume_fraction", "pressure_drop_Pa"}},
+                                 {"rows", rows}};
+    results["clear_stretch_pressure_Pa"] = coupled.clear_stretch_pressure();
 }
 
 }  // namespace
@@ -122,19 +150,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     // The coupled flow replaces the engine scene's prescribed one before anything reads it.
     std::unique_ptr<CoupledFlow> coupled;
     if (js.flow.coupled) {
-        CoupledFlowSettings c;
-        c.slab_half_thickness = js.slab_half_thickness;
-        c.z_lo = -js.valve.upstream_length;
-        c.z_hi = js.valve.downstream_length;
-        c.cell_length = js.flow.cell_length;
-        c.rings = js.flow.rings;
-        c.feed_fraction = js.feed_fraction;
-        c.supply_pressure = js.flow.supply_pressure;
-        c.viscosity = scene.system.physics.viscosity;
-        c.bore_speed = js.flow.bore_speed;
-        c.wall_gap = js.flow.wall_gap;
-        c.jet_length = js.flow.jet_length;
-        coupled = std::make_unique<CoupledFlow>(js.valve, c);
+        coupled = make_coupled_flow(js, scene.system.physics.viscosity);
         scene.system.flow = coupled->field();
     }
     if (resuming) restore_state(options.resume_checkpoint, scene.system);
@@ -305,16 +321,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
     write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),
                       incomplete);
-    if (coupled) {
-        // Where the stretch spends the pressure, slice by slice, as the run ended.
-        nlohmann::json rows = nlohmann::json::array();
-        const auto& slices = coupled->field()->slices();
-        for (std::size_t k = 0; k < slices.size(); ++k)
-            rows.push_back({slices[k].centre(), slices[k].radius, coupled->slice_fraction()[k], coupled->slice_pressure()[k]});
-        out.report["results"]["coupled_slices"] = {
-            {"columns", {"z_m", "passage_radius_m", "volume_fraction", "pressure_drop_Pa"}}, {"rows", rows}};
-        out.report["results"]["clear_stretch_pressure_Pa"] = coupled->clear_stretch_pressure();
-    }
+    if (coupled) write_coupled_slices(out.report["results"], *coupled);
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
     if (!options.picture_path.empty() && s.particles.size() > 0)
         out.report["outputs"]["throat_picture"] = options.picture_path;
