@@ -224,6 +224,22 @@ TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, sh
     CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() == rel(0.8e-3));
 }
 
+TEST_CASE("jam scene: every bundled valve example is accepted at every tier") {
+    for (const char* name : {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x"})
+        for (const std::string& tier : jam_tier_names()) {
+            CAPTURE(name);
+            CAPTURE(tier);
+            const std::string dir = std::string(MRJAM_SOURCE_DIR) + "/examples";
+            const json scene = json::parse(slurp(dir + "/" + name + ".json"));
+            CHECK_NOTHROW(read_jam_scene(scene, tier, dir));
+        }
+    // The fine grains' example runs the coupled flow with the taper's mirror as its jet.
+    const json fine = json::parse(slurp(std::string(MRJAM_SOURCE_DIR) + "/examples/valve_10um_30x.json"));
+    const JamScene js = read_jam_scene(fine, "quick", ".");
+    CHECK(js.flow.coupled);
+    CHECK(js.flow.jet_length == rel(js.valve.taper_length));
+}
+
 TEST_CASE("jam scene: the coupled flow's rings, wall gap and jet") {
     const json scene = {{"valve", {{"constriction", "30x"}}}, {"fluid", {{"flow", "coupled"}}}};
     const JamScene js = read_jam_scene(scene, "quick", ".");
