@@ -250,8 +250,17 @@ TEST_CASE("jam scene: the coupled flow's rings, wall gap and jet") {
     CHECK(js.flow.wall_gap == rel(mean));
     // Rings: one largest grain (44 um) wide in the 0.66 mm throat, 15, within the 18 allowed.
     CHECK(js.flow.rings == 15);
-    // The jet: the quick tier's 0.5 mm downstream, exit at 0.1 mm, less two 88 um cells.
-    CHECK(js.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
+    // The jet: the taper mirrored, the quick tier's 0.5 mm of tube past the throat centre
+    // lengthened to hold it and two 88 um cells (exit at 0.1 mm), and the report says so.
+    CHECK(js.flow.jet_length == rel(0.8e-3));
+    CHECK(js.valve.downstream_length == rel(0.1e-3 + 0.8e-3 + 2 * 88e-6));
+    CHECK(js.resolved["model"]["downstream_length"].get<double>() == rel(js.valve.downstream_length));
+    // A tube length the scene fixes is kept, and the jet is what fits in it.
+    json fixed = scene;
+    fixed["model"] = {{"downstream_length", "0.5 mm"}};
+    const JamScene short_tube = read_jam_scene(fixed, "quick", ".");
+    CHECK(short_tube.valve.downstream_length == rel(0.5e-3));
+    CHECK(short_tube.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
 }
 
 TEST_CASE("jam scene: the stretch starts at the mix's volume fraction, the taper included") {

@@ -62,6 +62,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     SceneNode model = root.object("model");
     const double slab_diameters = model.number("slab_thickness_diameters", ts.slab_diameters, Bounds::non_negative());
     const double upstream = model.quantity("upstream_length", units::length, ts.upstream, Bounds::positive());
+    const bool downstream_given = model.has("downstream_length") ||
+                                  (scene["valve"].is_object() && scene["valve"].contains("downstream_length"));
     const double downstream = model.quantity("downstream_length", units::length, ts.downstream, Bounds::positive());
     // The engine tier sets the dipoles' cutoff (quick 2, standard 3, paper 5 diameters); a scene may fix it.
     const double cutoff = model.has("magnetic_cutoff_diameters")
@@ -158,6 +160,18 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     if (!has_jet && fluid.has("jet_length"))
         fluid.fail("jet_length", "applies to the converging profile and the coupled flow only; set fluid/profile to "
                                  "\"converging\" or fluid/flow to \"coupled\", or drop it");
+    // The coupled flow's slices have no inertia, so its jet must be given room: a jet shorter than
+    // the taper piled the grains where it slowed (the 44 um 20x case stopped arresting, the 10 um
+    // one blew up; docs/jam.md). Unless the scene fixes the tube's length, the coupled flow
+    // lengthens it downstream until the taper's mirror fits.
+    if (out.flow.coupled && !v.is_slot() && !downstream_given && !fluid.has("jet_length")) {
+        const double needed = v.throat_end_z() + v.taper_length + 2.0 * out.flow.cell_length;
+        if (needed > out.valve.downstream_length) {
+            out.valve.downstream_length = needed;
+            root.resolved_child("model")["downstream_length"] = needed;
+            root.resolved_child("valve")["downstream_length"] = needed;
+        }
+    }
     if (has_jet) {
         const double room = v.downstream_length - v.throat_end_z() - 2.0 * out.flow.cell_length;
         if (fluid.has("jet_length")) {
