@@ -133,7 +133,6 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     SceneNode fluid = root.object("fluid");
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
-    // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
     const std::string flow_model = fluid.choice("flow", {"prescribed", "pressure", "coupled"}, "prescribed");
     out.flow.coupled = flow_model == "coupled";
     out.flow.pressure_driven = flow_model != "prescribed";
@@ -141,6 +140,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // the source's for the time step's characteristic speed only.
     if (out.flow.coupled && fluid.has("profile"))
         fluid.fail("profile", "the coupled flow computes the fluid's profile from the grains; drop fluid/profile");
+    // The slot's flow is the conserving reading only (fluid/slot_valve_flow.hpp).
     const std::string profile =
         fluid.choice("profile", valve_flow_profile_names(), v.is_slot() ? "conserving" : "source");
     if (v.is_slot() && profile != "conserving")
@@ -196,6 +196,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         for (std::size_t i = 0; i < table.diameters.size(); ++i) mean_radius += 0.5 * table.diameters[i] * table.mass[i] / total;
         out.flow.wall_gap = mean_radius;
         const int widest = static_cast<int>(std::floor(v.throat_radius() / (2.0 * mean_radius)));
+        if (widest < 2)
+            fluid.fail("flow", "the throat is narrower than four mean grain diameters, too narrow for the coupled "
+                               "flow's rings; use \"pressure\"");
         const int rings_default = std::clamp(static_cast<int>(std::floor(v.throat_radius() / out.largest_diameter)), 4, 32);
         out.flow.rings = static_cast<int>(fluid.integer("rings", std::min(rings_default, widest), 2, 256));
         if (out.flow.rings > widest)
