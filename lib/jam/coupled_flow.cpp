@@ -41,7 +41,7 @@ CoupledFlow::CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& 
                                                 settings.jet_length)) {
     const auto& slices = field_->slices();
     const int m = field_->rings();
-    if (!(set_.wall_gap >= 0) || set_.wall_gap >= 0.5 * valve.throat_radius() / m)
+    if (!(set_.wall_gap >= 0) || set_.wall_gap > 0.5 * valve.throat_radius() / m)
         throw std::invalid_argument("coupled flow: the rings must be at least a grain diameter wide in the throat");
     volume_.assign(slices.size() * static_cast<std::size_t>(m), 0.0);
     // Ring j of slice k: the slab-cut annulus between j R_f(z) / m and (j + 1) R_f(z) / m, integrated
