@@ -44,13 +44,6 @@ int CoupledValveFlow::ring_at(const Vec3& x) const {
     return std::clamp(static_cast<int>(r / rf * rings_), 0, rings_ - 1);
 }
 
-double jet_stream_radius(const ValveGeometry& valve, double jet_length, double z) {
-    const double exit = valve.throat_end_z();
-    if (z <= exit || z >= exit + jet_length) return valve.passage_radius(z);
-    const double rb = valve.bore_radius(), rt = valve.throat_radius();
-    return rt + (z - exit) * (rb - rt) / jet_length;
-}
-
 double CoupledValveFlow::stream_radius(double z) const { return jet_stream_radius(valve_, jet_length_, z); }
 
 // The radius whose Poiseuille resistance is the slice's: (mean of R_f^-4)^(-1/4), by composite
@@ -66,13 +59,7 @@ double CoupledValveFlow::resistance_radius(double lo, double hi) const {
     return std::pow(sum * h / 3.0 / (hi - lo), -0.25);
 }
 
-double CoupledValveFlow::stream_slope(double z) const {
-    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
-    const double exit = valve_.throat_end_z();
-    if (z > valve_.taper_start_z() && z < -0.5 * valve_.throat_length) return -(rb - rt) / valve_.taper_length;
-    if (z > exit && z < exit + jet_length_) return (rb - rt) / jet_length_;
-    return 0.0;
-}
+double CoupledValveFlow::stream_slope(double z) const { return jet_stream_slope(valve_, jet_length_, z); }
 
 double CoupledValveFlow::slice_profile(std::size_t k, double xi) const {
     const double* u = speed_.data() + k * static_cast<std::size_t>(rings_);

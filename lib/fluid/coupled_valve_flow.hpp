@@ -21,13 +21,10 @@
 #include <vector>
 
 #include "fluid/flow_field.hpp"
+#include "fluid/valve_flow.hpp"
 #include "geometry/valve.hpp"
 
 namespace mrjam {
-
-// The moving stream's radius at z: the passage's, except past the exit, where a jet re-opens
-// linearly from the throat's radius to the bore's over `jet_length`.
-double jet_stream_radius(const ValveGeometry& valve, double jet_length, double z);
 
 struct FlowSlice {
     double z_lo, z_hi;

@@ -33,19 +33,27 @@ Vec3 ValveFlow::self_similar(const Vec3& x, double R, double slope) const {
     return {radial * x.x, radial * x.y, u};
 }
 
+double jet_stream_radius(const ValveGeometry& valve, double jet_length, double z) {
+    const double exit = valve.throat_end_z();
+    if (z <= exit || z >= exit + jet_length) return valve.passage_radius(z);
+    const double rb = valve.bore_radius(), rt = valve.throat_radius();
+    return rt + (z - exit) * (rb - rt) / jet_length;
+}
+
+double jet_stream_slope(const ValveGeometry& valve, double jet_length, double z) {
+    const double rb = valve.bore_radius(), rt = valve.throat_radius();
+    const double exit = valve.throat_end_z();
+    if (z > valve.taper_start_z() && z < -0.5 * valve.throat_length) return -(rb - rt) / valve.taper_length;
+    if (z > exit && z < exit + jet_length) return (rb - rt) / jet_length;
+    return 0.0;
+}
+
 double ValveFlow::stream_radius(double z) const {
-    const double exit = valve_.throat_end_z();
-    if (profile_ != Profile::converging || z <= exit) return valve_.passage_radius(z);
-    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
-    return std::min(rb, rt + (z - exit) * (rb - rt) / jet_length_);
+    return jet_stream_radius(valve_, profile_ == Profile::converging ? jet_length_ : 0.0, z);
 }
 
 double ValveFlow::stream_slope(double z) const {
-    const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
-    const double exit = valve_.throat_end_z();
-    if (z > valve_.taper_start_z() && z < -0.5 * valve_.throat_length) return -(rb - rt) / valve_.taper_length;
-    if (profile_ == Profile::converging && z > exit && z < exit + jet_length_) return (rb - rt) / jet_length_;
-    return 0.0;
+    return jet_stream_slope(valve_, profile_ == Profile::converging ? jet_length_ : 0.0, z);
 }
 
 // In the bore: U pi r_t^2 for the plug plus the ramp's integral 2 pi U int (r_b - r)/(r_b - r_t) r dr.

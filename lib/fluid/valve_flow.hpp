@@ -89,6 +89,13 @@ private:
     std::vector<double> drag_factors_;
 };
 
+// The moving stream's radius at z and its slope dR_f/dz: the passage's (its slope is the
+// taper's), except past the orifice exit, where a jet re-opens linearly from the throat's radius
+// to the bore's over `jet_length` (0: no jet). The converging profile and the coupled flow
+// (fluid/coupled_valve_flow.hpp) ride on it.
+double jet_stream_radius(const ValveGeometry& valve, double jet_length, double z);
+double jet_stream_slope(const ValveGeometry& valve, double jet_length, double z);
+
 // The profiles' scene names ("source", "conserving", "converging"), both ways, and the list a
 // scene's `profile` key is checked against.
 std::vector<std::string> valve_flow_profile_names();
