@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/quadrature.hpp"
+
 namespace mrjam {
 
 CoupledValveFlow::CoupledValveFlow(const ValveGeometry& valve, double z_lo, double z_hi, double cell_length, int rings,
@@ -50,13 +52,8 @@ double CoupledValveFlow::stream_radius(double z) const { return jet_stream_radiu
 // Simpson (R_f is linear inside a slice). In the jet R_f doubles within a few slices, and the
 // centre's radius alone would miss the clear resistance by ~10 % there.
 double CoupledValveFlow::resistance_radius(double lo, double hi) const {
-    const int n = 16;
-    const double h = (hi - lo) / n;
-    auto f = [&](double z) { return std::pow(stream_radius(z), -4.0); };
-    const double eps = 1e-12 * (hi - lo);
-    double sum = f(lo + eps) + f(hi - eps);
-    for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * f(lo + i * h);
-    return std::pow(sum * h / 3.0 / (hi - lo), -0.25);
+    auto inverse_fourth = [&](double z) { return std::pow(stream_radius(z), -4.0); };
+    return std::pow(simpson_inside(inverse_fourth, lo, hi, 16) / (hi - lo), -0.25);
 }
 
 double CoupledValveFlow::stream_slope(double z) const { return jet_stream_slope(valve_, jet_length_, z); }

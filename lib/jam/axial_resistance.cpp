@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/quadrature.hpp"
+
 namespace mrjam {
 
 double slab_section(double r, double h) {
@@ -28,15 +30,7 @@ AxialResistance::AxialResistance(const ValveGeometry& valve, double slab_half_th
             if (z > a && z < b) edges.push_back(z);
         edges.push_back(b);
         double v = 0;
-        for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
-            // Open-interval samples only: at a jump the endpoint value belongs to the other side.
-            const double lo = edges[e], hi = edges[e + 1], eps = 1e-12 * (hi - lo);
-            const int m = 8;
-            const double h = (hi - lo) / m;
-            double sum = section(lo + eps) + section(hi - eps);
-            for (int j = 1; j < m; ++j) sum += (j % 2 ? 4.0 : 2.0) * section(lo + j * h);
-            v += sum * h / 3.0;
-        }
+        for (std::size_t e = 0; e + 1 < edges.size(); ++e) v += simpson_inside(section, edges[e], edges[e + 1], 8);
         volume_[k] = v;
     }
 }

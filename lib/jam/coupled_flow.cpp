@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/quadrature.hpp"
 #include "fluid/brinkman_slice.hpp"
 #include "fluid/valve_flow.hpp"
 
@@ -13,12 +14,6 @@ namespace mrjam {
 namespace {
 
 constexpr double pi = std::numbers::pi;
-
-// Flow rate of slice k's clear fluid at unit pressure gradient.
-double clear_conductance(double radius, int rings, double viscosity) {
-    BrinkmanRings clear{radius, viscosity, std::vector<double>(rings, 0.0), std::vector<double>(rings, 0.0)};
-    return ring_flow_rate(brinkman_profile(clear, 1.0), radius);
-}
 
 }  // namespace
 
@@ -46,36 +41,34 @@ CoupledFlow::CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& 
     volume_.assign(slices.size() * static_cast<std::size_t>(m), 0.0);
     // Ring j of slice k: the slab-cut annulus between j R_f(z) / m and (j + 1) R_f(z) / m, integrated
     // along the slice by composite Simpson (R_f is linear inside a slice: it never straddles a break).
-    for (std::size_t k = 0; k < slices.size(); ++k) {
-        const double lo = slices[k].z_lo, hi = slices[k].z_hi, eps = 1e-12 * (hi - lo);
-        const int n = 8;
-        const double h = (hi - lo) / n;
+    for (std::size_t k = 0; k < slices.size(); ++k)
         for (int j = 0; j < m; ++j) {
             auto ring = [&](double z) {
-                const double R = field_->stream_radius(std::clamp(z, lo + eps, hi - eps));
+                const double R = field_->stream_radius(z);
                 const double outer = j + 1 < m || !slices[k].walled ? (j + 1) * R / m : R - set_.wall_gap;
                 return slab_section(outer, set_.slab_half_thickness) - slab_section(j * R / m, set_.slab_half_thickness);
             };
-            double sum = ring(lo) + ring(hi);
-            for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * ring(lo + i * h);
-            volume_[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(j)] = sum * h / 3.0;
+            volume_[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(j)] =
+                simpson_inside(ring, slices[k].z_lo, slices[k].z_hi, 8);
         }
-    }
+    // The clear fluid: each slice's profile at unit pressure gradient sets its conductance, the
+    // circuit's size and (scaled to Q0) the field before the first update.
     q0_ = ValveFlow(valve, set_.bore_speed).reference_flow_rate();
     double resistance = 0;  // sum dz / Qa of the clear slices
-    for (const auto& sl : slices) resistance += (sl.z_hi - sl.z_lo) / clear_conductance(sl.radius, m, set_.viscosity);
+    std::vector<double> u(volume_.size());
+    for (std::size_t k = 0; k < slices.size(); ++k) {
+        const BrinkmanRings clear{slices[k].radius, set_.viscosity, std::vector<double>(m, 0.0),
+                                  std::vector<double>(m, 0.0)};
+        const std::vector<double> unit = brinkman_profile(clear, 1.0);
+        const double conductance = ring_flow_rate(unit, slices[k].radius);
+        resistance += (slices[k].z_hi - slices[k].z_lo) / conductance;
+        for (int j = 0; j < m; ++j)
+            u[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(j)] = q0_ / conductance * unit[j];
+    }
     clear_pressure_ = q0_ * resistance;
     if (!(set_.supply_pressure > clear_pressure_))
         throw std::invalid_argument("fluid/supply_pressure: below what the clear fluid needs through the stretch");
     circuit_resistance_ = (set_.supply_pressure - clear_pressure_) / q0_;
-    // Before the first update: the clear flow at Q0.
-    std::vector<double> u(volume_.size());
-    for (std::size_t k = 0; k < slices.size(); ++k) {
-        BrinkmanRings clear{slices[k].radius, set_.viscosity, std::vector<double>(m, 0.0), std::vector<double>(m, 0.0)};
-        const double g = q0_ / clear_conductance(slices[k].radius, m, set_.viscosity);
-        const auto uk = brinkman_profile(clear, g);
-        std::copy(uk.begin(), uk.end(), u.begin() + static_cast<long>(k * static_cast<std::size_t>(m)));
-    }
     field_->set_field(u, std::vector<double>(volume_.size(), 1.0));
 }
 
