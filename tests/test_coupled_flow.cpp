@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "flow_quadrature.hpp"
 #include "fluid/brinkman_slice.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
@@ -63,18 +64,6 @@ ValveGeometry valve_20x() {
     v.upstream_length = 1.0e-3;
     v.downstream_length = 0.5e-3;
     return v;
-}
-
-// Flow rate through the section at z by quadrature of the field's velocity.
-double section_flow(const FlowField& f, const ValveGeometry& v, double z) {
-    const double R = v.passage_radius(z);
-    const int n = 2000;
-    double q = 0;
-    for (int i = 0; i < n; ++i) {
-        const double r = (i + 0.5) * R / n;
-        q += f.velocity({r, 0, z}, 0).z * 2 * M_PI * r * R / n;
-    }
-    return q;
 }
 
 }  // namespace
@@ -143,7 +132,7 @@ TEST_CASE("coupled flow: without grains, Poiseuille in every slice, one flow rat
     // ring profile read between centres is linear in r, 2 % from the ring sum at 16 rings.
     for (double z : {-0.95e-3, -0.5e-3, -0.33e-3, -0.27e-3, -0.12e-3, 0.0, 0.05e-3, 0.15e-3, 0.22e-3, 0.4e-3}) {
         CAPTURE(z);
-        CHECK(section_flow(*cf.field(), v, z) == doctest::Approx(q0).epsilon(0.02));
+        CHECK(mrjam_test::section_flow_rate(*cf.field(), v, z, 2000) == doctest::Approx(q0).epsilon(0.02));
     }
     // No flow through the wall; in the cone the stream runs along it (u_r / u_z = r R' / R).
     const double z = -0.5e-3, R = v.passage_radius(z);

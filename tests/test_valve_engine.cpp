@@ -3,6 +3,7 @@
 #include <cmath>
 #include <doctest/doctest.h>
 
+#include "flow_quadrature.hpp"
 #include "rel_approx.hpp"
 
 #include "fluid/valve_flow.hpp"
@@ -98,14 +99,7 @@ TEST_CASE("valve flow, conserving reading: the source's shape and one flow rate 
     // Flow rate by midpoint quadrature over the section, at the bore, mid-taper and throat.
     for (double z : {-3e-3, v.taper_start_z() + 0.5 * v.taper_length, 0.0, 2e-3}) {
         CAPTURE(z);
-        const double R = v.passage_radius(z);
-        const int n = 20000;
-        double q = 0;
-        for (int i = 0; i < n; ++i) {
-            const double rho = (i + 0.5) * R / n;
-            q += flow.velocity({rho, 0, z}, 0).z * 2 * M_PI * rho * R / n;
-        }
-        CHECK(q == rel(flow.reference_flow_rate()).epsilon(1e-6));
+        CHECK(mrjam_test::section_flow_rate(flow, v, z, 20000) == rel(flow.reference_flow_rate()).epsilon(1e-6));
         CHECK(flow.flow_rate_at(z) == rel(flow.reference_flow_rate()).epsilon(1e-6));
     }
 }
