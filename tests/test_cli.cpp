@@ -214,6 +214,16 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         expect_refused(dir, "wrong_type_bool", s, "/materials/0/friction");
     }
     {
+        // A per-pair friction must name two defined materials and a friction that is not negative.
+        json s = small_scene();
+        s["material_pairs"] = {{{"materials", {"glass", "steel"}}, {"friction", 0}}};
+        expect_refused(dir, "pair_unknown_material", s, "/material_pairs/0/materials");
+        s["material_pairs"] = {{{"materials", "glass"}}};
+        expect_refused(dir, "pair_not_two", s, "/material_pairs/0/materials");
+        s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"friction", -0.1}}};
+        expect_refused(dir, "pair_negative_friction", s, "/material_pairs/0/friction");
+    }
+    {
         json s = small_scene();
         s["seed"] = 1.5;
         expect_refused(dir, "wrong_type_seed", s, "/seed");

@@ -448,6 +448,24 @@ TEST_CASE("contact: sphere on an incline rolls without slip or slides (Coulomb)"
     }
 }
 
+TEST_CASE("contact: a pair's own friction replaces the mixing rule's: a frictionless floor lets a sphere slide") {
+    // The grain's material has mu = 0.2, so the floor alone would make it roll (tan(theta) =
+    // 0.35 < 3.5 mu). With the pair set frictionless it must slide at g sin(theta), exact for
+    // constant forces under Verlet, without spinning up (no tangential force, no torque).
+    const double theta = 0.35;
+    GrainOnFloor g = grain_on_floor(grain_material(0.5, 0.2), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
+                                    RollingModel::epsd);
+    g.s.pairs.set_pair_friction(0, 0, 0.0, 0.0);
+    System& s = g.s;
+    while (s.time < 0.05) advance(s);
+    const double t1 = s.time, v1 = s.particles.velocity[0].x;
+    while (s.time < 0.15) advance(s);
+    const double a = (s.particles.velocity[0].x - v1) / (s.time - t1);
+    report("frictionless pair on incline, acceleration", a, kG * std::sin(theta));
+    CHECK(relative_error(a, kG * std::sin(theta)) < 1e-6);
+    CHECK(std::fabs(s.particles.angular_velocity[0].y) == 0.0);
+}
+
 TEST_CASE("contact: EPSD rolling resistance holds a sphere on an incline below tan(theta) = mu_r") {
     // Static sphere on the incline: the force balance along the slope needs friction
     // f = m g sin(theta); the moment balance about the centre needs a rolling torque M = R f.

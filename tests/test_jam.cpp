@@ -191,6 +191,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
                         "0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n");
     refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
+    refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");
@@ -261,6 +262,35 @@ TEST_CASE("jam scene: the coupled flow's rings, wall gap and jet") {
     const JamScene short_tube = read_jam_scene(fixed, "quick", ".");
     CHECK(short_tube.valve.downstream_length == rel(0.5e-3));
     CHECK(short_tube.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
+}
+
+TEST_CASE("jam scene: the slab's faces are frictionless or frictional as asked; the valve's wall keeps its friction") {
+    auto built = [](const std::string& faces) {
+        const json scene = {{"valve", {{"constriction", "30x"}}}, {"model", {{"slab_faces", faces}}}};
+        BuildOptions build;
+        build.fidelity = "quick";
+        build.insert_grains = false;
+        return build_scene(read_jam_scene(scene, "quick", ".").engine_scene, build);
+    };
+    auto wall = [](const System& s, const std::string& name) {
+        for (const Wall& w : s.walls)
+            if (w.name == name) return w;
+        FAIL("no wall " << name);
+        return Wall{};
+    };
+    const Scene smooth = built("frictionless");
+    const System& s = smooth.system;
+    for (const char* face : {"slab_low", "slab_high"}) {
+        CAPTURE(face);
+        CHECK(s.pairs(0, wall(s, face).material).friction == 0.0);
+        CHECK(s.pairs(0, wall(s, face).material).rolling_friction == 0.0);
+        // The face is the same iron in every other respect (stiffness, damping).
+        CHECK(s.pairs(0, wall(s, face).material).effective_youngs == rel(s.pairs(0, 0).effective_youngs));
+    }
+    CHECK(s.pairs(0, 0).friction == rel(0.4));
+    CHECK(s.pairs(0, wall(s, "valve").material).friction == rel(0.4));
+    const Scene rough = built("frictional");
+    CHECK(rough.system.pairs(0, wall(rough.system, "slab_low").material).friction == rel(0.4));
 }
 
 TEST_CASE("jam scene: the stretch starts at the mix's volume fraction, the taper included") {

@@ -69,6 +69,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double cutoff = model.has("magnetic_cutoff_diameters")
                               ? model.number("magnetic_cutoff_diameters", std::nullopt, Bounds::closed(1.0, 20.0))
                               : 0.0;
+    // The slab's plane faces stand for more of the same suspension beside it, moving with it: a
+    // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about
+    // x = 0; a frictional one holds chains pressed against it like a real wall would.
+    const bool frictionless_slab =
+        model.choice("slab_faces", {"frictionless", "frictional"}, "frictional") == "frictionless";
     model.finish();
 
     // The valve: the model's lengths replace the valve's own unless the valve gives them.
@@ -306,10 +311,26 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         valve_si["slot_width"] = v.slot_width;
     }
     json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
+    json materials = json::array({material});
+    json material_pairs = json::array();
     if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb) {
-        walls.push_back({{"name", "slab_low"}, {"type", "plane"}, {"point", vec(-hx, 0, 0)}, {"normal", vec(1, 0, 0)}});
-        walls.push_back(
-            {{"name", "slab_high"}, {"type", "plane"}, {"point", vec(hx, 0, 0)}, {"normal", vec(-1, 0, 0)}});
+        std::string face_material = "iron";
+        if (frictionless_slab) {
+            json face = material;
+            face["name"] = face_material = "slab_face";
+            materials.push_back(face);
+            material_pairs.push_back({{"materials", {"iron", "slab_face"}}, {"friction", 0.0}, {"rolling_friction", 0.0}});
+        }
+        walls.push_back({{"name", "slab_low"},
+                         {"type", "plane"},
+                         {"material", face_material},
+                         {"point", vec(-hx, 0, 0)},
+                         {"normal", vec(1, 0, 0)}});
+        walls.push_back({{"name", "slab_high"},
+                         {"type", "plane"},
+                         {"material", face_material},
+                         {"point", vec(hx, 0, 0)},
+                         {"normal", vec(-1, 0, 0)}});
     }
     // Grains start at the feed fraction everywhere in the passage (a box inside the slab's
     // chord, or a cylinder for the full bore, per slice), so grains cross the throat from the
@@ -363,7 +384,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     out.engine_scene = {{"description", "mrjam jam: generated from the jam scene"},
                         {"seed", seed},
                         {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
-                        {"materials", json::array({material})},
+                        {"materials", materials},
+                        {"material_pairs", material_pairs},
                         {"contact", {{"model", "hertz_mindlin"}}},
                         {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
                         {"walls", walls},

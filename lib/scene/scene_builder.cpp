@@ -70,6 +70,26 @@ Material read_material(SceneNode node) {
     return m;
 }
 
+// One pair's friction in place of the mixing rule's means: {"materials": [a, b], "friction",
+// "rolling_friction"} (each defaulting to the mean it replaces).
+void read_material_pair(SceneNode node, const std::vector<std::string>& names, PairTable& pairs) {
+    const json& list = node.raw("materials");
+    if (!list.is_array() || list.size() != 2 || !list[0].is_string() || !list[1].is_string())
+        node.fail("materials", "must be two material names, e.g. [\"iron\", \"glass\"]");
+    std::uint16_t index[2];
+    for (int k = 0; k < 2; ++k) {
+        const auto it = std::find(names.begin(), names.end(), list[k].get<std::string>());
+        if (it == names.end())
+            node.fail("materials", "names no material called \"" + list[k].get<std::string>() + "\"; define it in /materials");
+        index[k] = static_cast<std::uint16_t>(it - names.begin());
+    }
+    const PairCoefficients& mixed = pairs(index[0], index[1]);
+    const double friction = node.number("friction", mixed.friction, Bounds::non_negative());
+    const double rolling = node.number("rolling_friction", mixed.rolling_friction, Bounds::non_negative());
+    node.finish();
+    pairs.set_pair_friction(index[0], index[1], friction, rolling);
+}
+
 void read_contact(SceneNode node, PhysicsSettings& ph) {
     ph.contact = node.choice("model", {"hertz_mindlin", "none"}, "hertz_mindlin") == "hertz_mindlin";
     const std::string rolling = node.choice("rolling", {"none", "epsd", "sds"}, "none");
@@ -406,6 +426,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     }
     if (names.empty()) root.fail("materials", "needs at least one material");
     s.pairs = PairTable(s.materials);
+    for (auto pair : root.objects("material_pairs")) read_material_pair(pair, names, s.pairs);
 
     if (auto c = root.optional_object("contact")) read_contact(*c, s.physics);
     else { json in = json::object(); read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics); }
