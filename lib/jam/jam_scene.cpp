@@ -71,9 +71,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                               : 0.0;
     // The slab's plane faces stand for more of the same suspension beside it, moving with it: a
     // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about
-    // x = 0; a frictional one holds chains pressed against it like a real wall would.
+    // x = 0. A frictional one holds chains pressed against it like a real wall would, and that
+    // friction alone arrested the quick 30x case and the 10 um mix that the full bore and the
+    // frictionless slab let flow (docs/jam.md, "The slab's faces"); so frictionless is the default.
     const bool frictionless_slab =
-        model.choice("slab_faces", {"frictionless", "frictional"}, "frictional") == "frictionless";
+        model.choice("slab_faces", {"frictionless", "frictional"}, "frictionless") == "frictionless";
     model.finish();
 
     // The valve: the model's lengths replace the valve's own unless the valve gives them.
