@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <numeric>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "fluid/slot_valve_flow.hpp"
@@ -323,16 +324,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             materials.push_back(face);
             material_pairs.push_back({{"materials", {"iron", "slab_face"}}, {"friction", 0.0}, {"rolling_friction", 0.0}});
         }
-        walls.push_back({{"name", "slab_low"},
-                         {"type", "plane"},
-                         {"material", face_material},
-                         {"point", vec(-hx, 0, 0)},
-                         {"normal", vec(1, 0, 0)}});
-        walls.push_back({{"name", "slab_high"},
-                         {"type", "plane"},
-                         {"material", face_material},
-                         {"point", vec(hx, 0, 0)},
-                         {"normal", vec(-1, 0, 0)}});
+        for (const auto& [name, side] : {std::pair{"slab_low", -1.0}, std::pair{"slab_high", 1.0}})
+            walls.push_back({{"name", name},
+                             {"type", "plane"},
+                             {"material", face_material},
+                             {"point", vec(side * hx, 0, 0)},
+                             {"normal", vec(-side, 0, 0)}});
     }
     // Grains start at the feed fraction everywhere in the passage (a box inside the slab's
     // chord, or a cylinder for the full bore, per slice), so grains cross the throat from the
