@@ -222,6 +222,8 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         expect_refused(dir, "pair_not_two", s, "/material_pairs/0/materials");
         s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"friction", -0.1}}};
         expect_refused(dir, "pair_negative_friction", s, "/material_pairs/0/friction");
+        s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"cohesion_energy_density", "-5 kJ/m3"}}};
+        expect_refused(dir, "pair_negative_cohesion", s, "/material_pairs/0/cohesion_energy_density");
     }
     {
         json s = small_scene();

@@ -455,7 +455,9 @@ TEST_CASE("contact: a pair's own friction replaces the mixing rule's: a friction
     const double theta = 0.35;
     GrainOnFloor g = grain_on_floor(grain_material(0.5, 0.2), {kG * std::sin(theta), 0, -kG * std::cos(theta)},
                                     RollingModel::epsd);
-    g.s.pairs.set_pair_friction(0, 0, 0.0, 0.0);
+    PairCoefficients frictionless = g.s.pairs(0, 0);
+    frictionless.friction = frictionless.rolling_friction = 0.0;
+    g.s.pairs.set_pair(0, 0, frictionless);
     System& s = g.s;
     while (s.time < 0.05) advance(s);
     const double t1 = s.time, v1 = s.particles.velocity[0].x;

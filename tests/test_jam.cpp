@@ -293,6 +293,37 @@ TEST_CASE("jam scene: the slab's faces are frictionless or frictional as asked; 
     CHECK(rough.system.pairs(0, wall(rough.system, "slab_low").material).friction == rel(0.4));
 }
 
+TEST_CASE("jam scene: rolling resistance and cohesion switch on only when the material asks; the slab faces carry neither") {
+    auto built = [](const json& material) {
+        const json scene = {{"valve", {{"constriction", "30x"}}}, {"material", material}};
+        BuildOptions build;
+        build.fidelity = "quick";
+        build.insert_grains = false;
+        return build_scene(read_jam_scene(scene, "quick", ".").engine_scene, build);
+    };
+    const Scene bare = built(json::object());
+    CHECK(bare.system.physics.rolling == RollingModel::none);
+    CHECK(bare.system.physics.cohesion == CohesionModel::none);
+    // Table 2.1's MRF suite (the bundled examples/valve_mix2_30x_table21.json).
+    const Scene suite = built({{"rolling_friction", 0.1}, {"rolling_damping", 0.1}, {"cohesion_energy_density", "60 kJ/m3"}});
+    const System& s = suite.system;
+    CHECK(s.physics.rolling == RollingModel::epsd);
+    CHECK(s.physics.cohesion == CohesionModel::sjkr);
+    CHECK(s.pairs(0, 0).rolling_friction == rel(0.1));
+    CHECK(s.pairs(0, 0).cohesion_energy_density == rel(6e4));
+    for (const Wall& w : s.walls) {
+        CAPTURE(w.name);
+        // A symmetry plane neither sticks nor resists rolling; the valve's own wall does both.
+        const bool face = w.name == "slab_low" || w.name == "slab_high";
+        CHECK(s.pairs(0, w.material).cohesion_energy_density == (face ? 0.0 : rel(6e4)));
+        CHECK(s.pairs(0, w.material).rolling_friction == (face ? 0.0 : rel(0.1)));
+    }
+    TempDir dir;
+    expect_mode_refused(dir, "jam", "negative_rolling", {{"material", {{"rolling_friction", -0.1}}}}, "/material/rolling_friction");
+    expect_mode_refused(dir, "jam", "negative_cohesion", {{"material", {{"cohesion_energy_density", "-1 kJ/m3"}}}},
+                        "/material/cohesion_energy_density");
+}
+
 TEST_CASE("jam scene: the stretch starts at the mix's volume fraction, the taper included") {
     // The quick 40x slab: grain volume over the slab's fluid volume (the resistance cells' sum,
     // exact for the cone) must be the feed fraction, less what the random packer's boxes cannot

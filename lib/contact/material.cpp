@@ -33,11 +33,8 @@ PairTable::PairTable(const std::vector<Material>& materials)
         for (std::size_t b = 0; b < n_; ++b) table_[a * n_ + b] = combine(materials[a], materials[b]);
 }
 
-void PairTable::set_pair_friction(std::uint16_t a, std::uint16_t b, double friction, double rolling_friction) {
-    for (std::size_t k : {a * n_ + b, b * n_ + a}) {
-        table_[k].friction = friction;
-        table_[k].rolling_friction = rolling_friction;
-    }
+void PairTable::set_pair(std::uint16_t a, std::uint16_t b, const PairCoefficients& c) {
+    for (std::size_t k : {a * n_ + b, b * n_ + a}) table_[k] = c;
 }
 
 }  // namespace mrjam

@@ -55,9 +55,9 @@ public:
     const PairCoefficients& operator()(std::uint16_t a, std::uint16_t b) const { return table_[a * n_ + b]; }
     std::size_t size() const { return n_; }
 
-    // Sets one pair's sliding and rolling friction in place of the mixing rule's means (both
-    // orders), as LIGGGHTS's per-pair matrix would: a frictionless symmetry plane, for example.
-    void set_pair_friction(std::uint16_t a, std::uint16_t b, double friction, double rolling_friction);
+    // Sets one pair's coefficients in place of the mixing rule's means (both orders), as
+    // LIGGGHTS's per-pair matrices would: a frictionless, cohesionless symmetry plane, for example.
+    void set_pair(std::uint16_t a, std::uint16_t b, const PairCoefficients& c);
 
     // Coefficients of a pair of materials (also used for a grain against a wall).
     static PairCoefficients combine(const Material& a, const Material& b);

@@ -127,7 +127,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                   std::to_string(out.largest_diameter * 1e6) +
                                                   " um); widen it or use finer grains");
 
-    // Material (the source's contact properties; restitution and Poisson's ratio not printed).
+    // Material (the source's contact properties; section 3.4.4 prints only E and the friction:
+    // restitution, Poisson's ratio, rolling resistance and cohesion default to a bare Hertz-Mindlin
+    // contact, and Table 2.1's MRF suite is one scene away, examples/valve_mix2_30x_table21.json).
     SceneNode mat = root.object("material");
     json material = {{"name", "iron"},
                      {"density", mat.quantity("density", units::density, 7800.0, Bounds::positive())},
@@ -135,6 +137,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                      {"poisson_ratio", mat.number("poisson_ratio", 0.3, Bounds::closed(0.0, 0.5))},
                      {"restitution", mat.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0))},
                      {"friction", mat.number("friction", 0.4, Bounds::non_negative())},
+                     {"rolling_friction", mat.number("rolling_friction", 0.0, Bounds::non_negative())},
+                     {"rolling_damping", mat.number("rolling_damping", 0.0, Bounds::non_negative())},
+                     {"cohesion_energy_density",
+                      mat.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative())},
                      {"relative_permeability", mat.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7))}};
     mat.finish();
 
@@ -322,7 +328,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             json face = material;
             face["name"] = face_material = "slab_face";
             materials.push_back(face);
-            material_pairs.push_back({{"materials", {"iron", "slab_face"}}, {"friction", 0.0}, {"rolling_friction", 0.0}});
+            material_pairs.push_back({{"materials", {"iron", "slab_face"}},
+                                      {"friction", 0.0},
+                                      {"rolling_friction", 0.0},
+                                      {"cohesion_energy_density", 0.0}});
         }
         for (const auto& [name, side] : {std::pair{"slab_low", -1.0}, std::pair{"slab_high", 1.0}})
             walls.push_back({{"name", name},
@@ -380,12 +389,16 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     json output_json = {{"directory", directory}};
     if (snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", snapshot_every}};
     if (checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", checkpoint_every}};
+    // Rolling resistance (EPSD, as the source's chapter 2) and cohesion (SJKR) only when asked for.
+    json contact_json = {{"model", "hertz_mindlin"}};
+    if (material["rolling_friction"].get<double>() > 0) contact_json["rolling"] = "epsd";
+    if (material["cohesion_energy_density"].get<double>() > 0) contact_json["cohesion"] = "sjkr";
     out.engine_scene = {{"description", "mrjam jam: generated from the jam scene"},
                         {"seed", seed},
                         {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
                         {"materials", materials},
                         {"material_pairs", material_pairs},
-                        {"contact", {{"model", "hertz_mindlin"}}},
+                        {"contact", contact_json},
                         {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
                         {"walls", walls},
                         {"grains", batches},

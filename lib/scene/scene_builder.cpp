@@ -70,8 +70,9 @@ Material read_material(SceneNode node) {
     return m;
 }
 
-// One pair's friction in place of the mixing rule's means: {"materials": [a, b], "friction",
-// "rolling_friction"} (each defaulting to the mean it replaces).
+// One pair's friction and cohesion in place of the mixing rule's means: {"materials": [a, b],
+// "friction", "rolling_friction", "cohesion_energy_density"} (each defaulting to the mean it
+// replaces).
 void read_material_pair(SceneNode node, const std::vector<std::string>& names, PairTable& pairs) {
     const json& list = node.raw("materials");
     if (!list.is_array() || list.size() != 2 || !list[0].is_string() || !list[1].is_string())
@@ -83,11 +84,13 @@ void read_material_pair(SceneNode node, const std::vector<std::string>& names, P
             node.fail("materials", "names no material called \"" + list[k].get<std::string>() + "\"; define it in /materials");
         index[k] = static_cast<std::uint16_t>(it - names.begin());
     }
-    const PairCoefficients& mixed = pairs(index[0], index[1]);
-    const double friction = node.number("friction", mixed.friction, Bounds::non_negative());
-    const double rolling = node.number("rolling_friction", mixed.rolling_friction, Bounds::non_negative());
+    PairCoefficients c = pairs(index[0], index[1]);
+    c.friction = node.number("friction", c.friction, Bounds::non_negative());
+    c.rolling_friction = node.number("rolling_friction", c.rolling_friction, Bounds::non_negative());
+    c.cohesion_energy_density =
+        node.quantity("cohesion_energy_density", units::pressure, c.cohesion_energy_density, Bounds::non_negative());
     node.finish();
-    pairs.set_pair_friction(index[0], index[1], friction, rolling);
+    pairs.set_pair(index[0], index[1], c);
 }
 
 void read_contact(SceneNode node, PhysicsSettings& ph) {
