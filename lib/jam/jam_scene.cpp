@@ -4,13 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
-#include <tuple>
 #include <utility>
 #include <vector>
 
-#include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
+#include "jam/jam_engine_scene.hpp"
 #include "magnetic/external_field.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
@@ -63,8 +62,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     SceneNode model = root.object("model");
     const double slab_diameters = model.number("slab_thickness_diameters", ts.slab_diameters, Bounds::non_negative());
     const double upstream = model.quantity("upstream_length", units::length, ts.upstream, Bounds::positive());
-    const bool downstream_given = model.has("downstream_length") ||
-                                  (scene["valve"].is_object() && scene["valve"].contains("downstream_length"));
+    const bool downstream_given =
+        model.has("downstream_length") || (scene["valve"].is_object() && scene["valve"].contains("downstream_length"));
     const double downstream = model.quantity("downstream_length", units::length, ts.downstream, Bounds::positive());
     // The engine tier sets the dipoles' cutoff (quick 2, standard 3, paper 5 diameters); a scene may fix it.
     const double cutoff = model.has("magnetic_cutoff_diameters")
@@ -172,8 +171,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     double jet_length = 0;
     const bool has_jet = profile == "converging" || (out.flow.coupled && !v.is_slot());
     if (!has_jet && fluid.has("jet_length"))
-        fluid.fail("jet_length", "applies to the converging profile and the coupled flow only; set fluid/profile to "
-                                 "\"converging\" or fluid/flow to \"coupled\", or drop it");
+        fluid.fail("jet_length",
+                   "applies to the converging profile and the coupled flow only; set fluid/profile to "
+                   "\"converging\" or fluid/flow to \"coupled\", or drop it");
     // The coupled flow's slices have no inertia, so its jet must be given room: a jet shorter than
     // the taper piled the grains where it slowed (the 44 um 20x case stopped arresting, the 10 um
     // one blew up; docs/jam.md). Unless the scene fixes the tube's length, the coupled flow
@@ -207,13 +207,16 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         // the wall ring counted to the mix's volume-weighted mean radius from the wall.
         const double total = std::accumulate(table.mass.begin(), table.mass.end(), 0.0);
         double mean_radius = 0;
-        for (std::size_t i = 0; i < table.diameters.size(); ++i) mean_radius += 0.5 * table.diameters[i] * table.mass[i] / total;
+        for (std::size_t i = 0; i < table.diameters.size(); ++i)
+            mean_radius += 0.5 * table.diameters[i] * table.mass[i] / total;
         out.flow.wall_gap = mean_radius;
         const int widest = static_cast<int>(std::floor(v.throat_radius() / (2.0 * mean_radius)));
         if (widest < 2)
-            fluid.fail("flow", "the throat is narrower than four mean grain diameters, too narrow for the coupled "
-                               "flow's rings; use \"pressure\"");
-        const int rings_default = std::clamp(static_cast<int>(std::floor(v.throat_radius() / out.largest_diameter)), 4, 32);
+            fluid.fail("flow",
+                       "the throat is narrower than four mean grain diameters, too narrow for the coupled "
+                       "flow's rings; use \"pressure\"");
+        const int rings_default =
+            std::clamp(static_cast<int>(std::floor(v.throat_radius() / out.largest_diameter)), 4, 32);
         out.flow.rings = static_cast<int>(fluid.integer("rings", std::min(rings_default, widest), 2, 256));
         if (out.flow.rings > widest)
             fluid.fail("rings", "at most " + std::to_string(widest) +
@@ -234,8 +237,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The resistance cells drive the circular orifice's profile (fluid/valve_flow.hpp); the
     // slot's profile (fluid/slot_valve_flow.hpp) has no pressure controller yet.
     if (out.flow.pressure_driven && v.is_slot())
-        fluid.fail("flow", "the pressure-driven and coupled flows are modelled for circular orifices only; use "
-                           "\"prescribed\" with a slot");
+        fluid.fail("flow",
+                   "the pressure-driven and coupled flows are modelled for circular orifices only; use "
+                   "\"prescribed\" with a slot");
     fluid.finish();
 
     // Field: uniform across the valve (y) or a map from `mrjam magnetics`.
@@ -305,110 +309,20 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     output.finish();
     root.finish();
 
-    // The engine scene.
-    const double d_up = v.upstream_length, d_down = v.downstream_length;
-    const double inset = 1e-9;
-    json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter},
-                     {"wall_thickness", v.wall_thickness},
-                     {"constriction_diameter", v.constriction_diameter},
-                     {"taper_length", v.taper_length},
-                     {"throat_length", v.throat_length},
-                     {"upstream_length", d_up},
-                     {"downstream_length", d_down}};
-    if (v.is_slot()) {
-        valve_si["orifice"] = "slot";
-        valve_si["slot_width"] = v.slot_width;
-    }
-    json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
-    json materials = json::array({material});
-    json material_pairs = json::array();
-    if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb) {
-        std::string face_material = "iron";
-        if (frictionless_slab) {
-            json face = material;
-            face["name"] = face_material = "slab_face";
-            materials.push_back(face);
-            material_pairs.push_back({{"materials", {"iron", "slab_face"}},
-                                      {"friction", 0.0},
-                                      {"rolling_friction", 0.0},
-                                      {"cohesion_energy_density", 0.0}});
-        }
-        for (const auto& [name, side] : {std::pair{"slab_low", -1.0}, std::pair{"slab_high", 1.0}})
-            walls.push_back({{"name", name},
-                             {"type", "plane"},
-                             {"material", face_material},
-                             {"point", vec(side * hx, 0, 0)},
-                             {"normal", vec(-side, 0, 0)}});
-    }
-    // Grains start at the feed fraction everywhere in the passage (a box inside the slab's
-    // chord, or a cylinder for the full bore, per slice), so grains cross the throat from the
-    // start and the no-field flux is measured in the first flow period.
-    auto region = [&](double z0, double z1, double radius) {
-        if (radius == 0) {  // the slot's straight part, in the slab if the slot is wider
-            const double sx = std::min(0.5 * v.slot_width, hx), sy = v.throat_radius();
-            return json{
-                {"shape", "box"}, {"lo", vec(-sx + inset, -sy + inset, z0)}, {"hi", vec(sx - inset, sy - inset, z1)}};
-        }
-        const double y = std::sqrt(std::max(0.0, radius * radius - hx * hx));
-        if (out.slab_half_thickness > 0 && out.slab_half_thickness < rb)
-            return json{
-                {"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
-        return json{
-            {"shape", "cylinder"}, {"axis", "z"}, {"base", vec(0, 0, z0)}, {"radius", radius}, {"length", z1 - z0}};
-    };
-    json size = {
-        {"distribution", "table"}, {"diameters", table.diameters}, {"frequencies", table.mass}, {"basis", "volume"}};
-    // The circular taper is filled as a staircase of slices two largest grains long, each as wide
-    // as the cone at its narrow end, so the feed fraction holds in the taper too (within the
-    // staircase's wedges, ~5 % of the taper's volume) and the stretch as a whole carries the
-    // mix's fraction. (Filling only the throat's radius there left the 10 um stretch at 0.28
-    // overall.) The slot's taper keeps the slot's straight box.
-    std::vector<std::tuple<double, double, double>> slices{{-d_up, v.taper_start_z(), rb}};
-    if (v.is_slot()) {
-        slices.emplace_back(v.taper_start_z(), v.throat_end_z(), 0.0);
-    } else {
-        const double start = v.taper_start_z(), throat_start = -0.5 * v.throat_length;
-        const int n = std::max(1, static_cast<int>(std::ceil(v.taper_length / (2.0 * out.largest_diameter))));
-        for (int k = 0; k < n; ++k) {
-            const double z0 = start + k * v.taper_length / n, z1 = start + (k + 1) * v.taper_length / n;
-            slices.emplace_back(z0, z1, v.passage_radius(z1));
-        }
-        slices.emplace_back(throat_start, v.throat_end_z(), v.throat_radius());
-    }
-    slices.emplace_back(v.throat_end_z(), d_down, rb);
-    json batches = json::array();
-    for (const auto& [z0, z1, radius] : slices)
-        batches.push_back(
-            {{"material", "iron"},
-             {"size", size},
-             {"placement", {{"method", "random"}, {"volume_fraction", fraction}, {"region", region(z0, z1, radius)}}}});
-    const double throat_speed = v.is_slot() ? SlotValveFlow(v.slot(), bore_speed).plug_speed(0.0)
-                                            : bore_speed * std::pow(rb / v.throat_radius(), 2);
-    json flow_json = {{"type", "valve"}, {"valve", valve_si}, {"bore_speed", bore_speed}, {"profile", profile}};
-    if (profile == "converging") flow_json["jet_length"] = out.flow.jet_length;
-    json output_json = {{"directory", directory}};
-    if (snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", snapshot_every}};
-    if (checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", checkpoint_every}};
-    // Rolling resistance (EPSD, as the source's chapter 2) and cohesion (SJKR) only when asked for.
-    json contact_json = {{"model", "hertz_mindlin"}};
-    if (material["rolling_friction"].get<double>() > 0) contact_json["rolling"] = "epsd";
-    if (material["cohesion_energy_density"].get<double>() > 0) contact_json["cohesion"] = "sjkr";
-    out.engine_scene = {{"description", "mrjam jam: generated from the jam scene"},
-                        {"seed", seed},
-                        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
-                        {"materials", materials},
-                        {"material_pairs", material_pairs},
-                        {"contact", contact_json},
-                        {"fluid", {{"viscosity", viscosity}, {"flow", flow_json}}},
-                        {"walls", walls},
-                        {"grains", batches},
-                        {"magnetic", cutoff > 0 ? json{{"field", field_json}, {"cutoff", {{"diameters", cutoff}}}}
-                                                : json{{"field", field_json}}},
-                        {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
-                        {"stages", json::array({{{"name", "flow"}, {"duration", p.flow_time}},
-                                                {{"name", "field_on"}, {"duration", p.max_time}},
-                                                {{"name", "release"}, {"duration", std::max(p.release_time, 1e-12)}}})},
-                        {"output", output_json}};
+    JamEngineInputs engine;
+    engine.seed = seed;
+    engine.material = material;
+    engine.diameters = table.diameters;
+    engine.mass = table.mass;
+    engine.profile = profile;
+    engine.viscosity = viscosity;
+    engine.field = field_json;
+    engine.cutoff_diameters = cutoff;
+    engine.frictionless_slab = frictionless_slab;
+    engine.directory = directory;
+    engine.snapshot_every = snapshot_every;
+    engine.checkpoint_every = checkpoint_every;
+    out.engine_scene = jam_engine_scene(out, engine);
     return out;
 }
 

@@ -1,0 +1,129 @@
+#include "jam/jam_engine_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <utility>
+
+#include "fluid/slot_valve_flow.hpp"
+
+namespace mrjam {
+
+using json = nlohmann::json;
+
+namespace {
+json vec(double x, double y, double z) { return json::array({x, y, z}); }
+}  // namespace
+
+json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
+    const ValveGeometry& v = js.valve;
+    const double rb = v.bore_radius();
+    const double hx = js.slab_half_thickness > 0 ? std::min(js.slab_half_thickness, rb) : rb;
+    const double d_up = v.upstream_length, d_down = v.downstream_length;
+    const double inset = 1e-9;
+    json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter},
+                     {"wall_thickness", v.wall_thickness},
+                     {"constriction_diameter", v.constriction_diameter},
+                     {"taper_length", v.taper_length},
+                     {"throat_length", v.throat_length},
+                     {"upstream_length", d_up},
+                     {"downstream_length", d_down}};
+    if (v.is_slot()) {
+        valve_si["orifice"] = "slot";
+        valve_si["slot_width"] = v.slot_width;
+    }
+    json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
+    json materials = json::array({in.material});
+    json material_pairs = json::array();
+    if (js.slab_half_thickness > 0 && js.slab_half_thickness < rb) {
+        std::string face_material = "iron";
+        if (in.frictionless_slab) {
+            json face = in.material;
+            face["name"] = face_material = "slab_face";
+            materials.push_back(face);
+            material_pairs.push_back({{"materials", {"iron", "slab_face"}},
+                                      {"friction", 0.0},
+                                      {"rolling_friction", 0.0},
+                                      {"cohesion_energy_density", 0.0}});
+        }
+        for (const auto& [name, side] : {std::pair{"slab_low", -1.0}, std::pair{"slab_high", 1.0}})
+            walls.push_back({{"name", name},
+                             {"type", "plane"},
+                             {"material", face_material},
+                             {"point", vec(side * hx, 0, 0)},
+                             {"normal", vec(-side, 0, 0)}});
+    }
+    // Grains start at the feed fraction everywhere in the passage (a box inside the slab's
+    // chord, or a cylinder for the full bore, per slice), so grains cross the throat from the
+    // start and the no-field flux is measured in the first flow period.
+    auto region = [&](double z0, double z1, double radius) {
+        if (radius == 0) {  // the slot's straight part, in the slab if the slot is wider
+            const double sx = std::min(0.5 * v.slot_width, hx), sy = v.throat_radius();
+            return json{
+                {"shape", "box"}, {"lo", vec(-sx + inset, -sy + inset, z0)}, {"hi", vec(sx - inset, sy - inset, z1)}};
+        }
+        const double y = std::sqrt(std::max(0.0, radius * radius - hx * hx));
+        if (js.slab_half_thickness > 0 && js.slab_half_thickness < rb)
+            return json{
+                {"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
+        return json{
+            {"shape", "cylinder"}, {"axis", "z"}, {"base", vec(0, 0, z0)}, {"radius", radius}, {"length", z1 - z0}};
+    };
+    json size = {{"distribution", "table"}, {"diameters", in.diameters}, {"frequencies", in.mass}, {"basis", "volume"}};
+    // The circular taper is filled as a staircase of slices two largest grains long, each as wide
+    // as the cone at its narrow end, so the feed fraction holds in the taper too (within the
+    // staircase's wedges, ~5 % of the taper's volume) and the stretch as a whole carries the
+    // mix's fraction. (Filling only the throat's radius there left the 10 um stretch at 0.28
+    // overall.) The slot's taper keeps the slot's straight box.
+    std::vector<std::tuple<double, double, double>> slices{{-d_up, v.taper_start_z(), rb}};
+    if (v.is_slot()) {
+        slices.emplace_back(v.taper_start_z(), v.throat_end_z(), 0.0);
+    } else {
+        const double start = v.taper_start_z(), throat_start = -0.5 * v.throat_length;
+        const int n = std::max(1, static_cast<int>(std::ceil(v.taper_length / (2.0 * js.largest_diameter))));
+        for (int k = 0; k < n; ++k) {
+            const double z0 = start + k * v.taper_length / n, z1 = start + (k + 1) * v.taper_length / n;
+            slices.emplace_back(z0, z1, v.passage_radius(z1));
+        }
+        slices.emplace_back(throat_start, v.throat_end_z(), v.throat_radius());
+    }
+    slices.emplace_back(v.throat_end_z(), d_down, rb);
+    json batches = json::array();
+    for (const auto& [z0, z1, radius] : slices)
+        batches.push_back(
+            {{"material", "iron"},
+             {"size", size},
+             {"placement",
+              {{"method", "random"}, {"volume_fraction", js.feed_fraction}, {"region", region(z0, z1, radius)}}}});
+    const double throat_speed = v.is_slot() ? SlotValveFlow(v.slot(), js.flow.bore_speed).plug_speed(0.0)
+                                            : js.flow.bore_speed * std::pow(rb / v.throat_radius(), 2);
+    json flow_json = {
+        {"type", "valve"}, {"valve", valve_si}, {"bore_speed", js.flow.bore_speed}, {"profile", in.profile}};
+    if (in.profile == "converging") flow_json["jet_length"] = js.flow.jet_length;
+    json output_json = {{"directory", in.directory}};
+    if (in.snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", in.snapshot_every}};
+    if (in.checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", in.checkpoint_every}};
+    // Rolling resistance (EPSD, as the source's chapter 2) and cohesion (SJKR) only when asked for.
+    json contact_json = {{"model", "hertz_mindlin"}};
+    if (in.material["rolling_friction"].get<double>() > 0) contact_json["rolling"] = "epsd";
+    if (in.material["cohesion_energy_density"].get<double>() > 0) contact_json["cohesion"] = "sjkr";
+    return {{"description", "mrjam jam: generated from the jam scene"},
+            {"seed", in.seed},
+            {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
+            {"materials", materials},
+            {"material_pairs", material_pairs},
+            {"contact", contact_json},
+            {"fluid", {{"viscosity", in.viscosity}, {"flow", flow_json}}},
+            {"walls", walls},
+            {"grains", batches},
+            {"magnetic", in.cutoff_diameters > 0
+                             ? json{{"field", in.field}, {"cutoff", {{"diameters", in.cutoff_diameters}}}}
+                             : json{{"field", in.field}}},
+            {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
+            {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
+                                    {{"name", "field_on"}, {"duration", js.protocol.max_time}},
+                                    {{"name", "release"}, {"duration", std::max(js.protocol.release_time, 1e-12)}}})},
+            {"output", output_json}};
+}
+
+}  // namespace mrjam

@@ -1,0 +1,29 @@
+#pragma once
+// The engine scene a jam scene becomes (the generic JSON `mrjam run` reads): the valve's passage
+// wall and, for a slab, its two plane faces; the grains filling the passage at the feed fraction;
+// the carrier flow's profile; the field; and the protocol's three stages (flow, field on, release).
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "jam/jam_scene.hpp"
+
+namespace mrjam {
+
+// What read_jam_scene() read that the JamScene itself does not keep.
+struct JamEngineInputs {
+    long long seed = 1;
+    nlohmann::json material;                             // the grains' engine material, named "iron"
+    std::vector<double> diameters, mass;                 // the size table, m and relative mass
+    std::string profile;                                 // fluid/profile (prescribed shape of the carrier flow)
+    double viscosity = 0;                                // Pa s
+    nlohmann::json field;                                // the engine's magnetic/field block
+    double cutoff_diameters = 0;                         // the dipoles' cutoff; 0 leaves the engine tier's
+    bool frictionless_slab = true;                       // model/slab_faces
+    std::string directory;                               // output/directory
+    long long snapshot_every = 0, checkpoint_every = 0;  // steps; 0: none
+};
+
+nlohmann::json jam_engine_scene(const JamScene& js, const JamEngineInputs& in);
+
+}  // namespace mrjam
