@@ -321,6 +321,7 @@ TEST_CASE("jam scene: rolling resistance and cohesion switch on only when the ma
     }
     TempDir dir;
     expect_mode_refused(dir, "jam", "negative_rolling", {{"material", {{"rolling_friction", -0.1}}}}, "/material/rolling_friction");
+    expect_mode_refused(dir, "jam", "damping_alone", {{"material", {{"rolling_damping", 0.1}}}}, "/material/rolling_damping");
     expect_mode_refused(dir, "jam", "negative_cohesion", {{"material", {{"cohesion_energy_density", "-1 kJ/m3"}}}},
                         "/material/cohesion_energy_density");
 }

@@ -141,6 +141,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                      {"cohesion_energy_density",
                       mat.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative())},
                      {"relative_permeability", mat.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7))}};
+    if (material["rolling_damping"].get<double>() > 0 && !(material["rolling_friction"].get<double>() > 0))
+        mat.fail("rolling_damping",
+                 "damps the EPSD rolling spring, which only rolling_friction > 0 switches on; "
+                 "give rolling_friction or drop rolling_damping");
     mat.finish();
 
     SceneNode fluid = root.object("fluid");
