@@ -18,7 +18,7 @@ json vec(double x, double y, double z) { return json::array({x, y, z}); }
 json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     const ValveGeometry& v = js.valve;
     const double rb = v.bore_radius();
-    const double hx = js.slab_half_thickness > 0 ? std::min(js.slab_half_thickness, rb) : rb;
+    const double hx = js.half_width();
     const double d_up = v.upstream_length, d_down = v.downstream_length;
     const double inset = 1e-9;
     json valve_si = {{"tube_inner_diameter", v.tube_inner_diameter},
@@ -35,7 +35,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     json walls = json::array({{{"name", "valve"}, {"type", "passage"}, {"valve", valve_si}}});
     json materials = json::array({in.material});
     json material_pairs = json::array();
-    if (js.slab_half_thickness > 0 && js.slab_half_thickness < rb) {
+    if (js.is_slab()) {
         std::string face_material = "iron";
         if (in.frictionless_slab) {
             json face = in.material;
@@ -63,7 +63,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
                 {"shape", "box"}, {"lo", vec(-sx + inset, -sy + inset, z0)}, {"hi", vec(sx - inset, sy - inset, z1)}};
         }
         const double y = std::sqrt(std::max(0.0, radius * radius - hx * hx));
-        if (js.slab_half_thickness > 0 && js.slab_half_thickness < rb)
+        if (js.is_slab())
             return json{
                 {"shape", "box"}, {"lo", vec(-hx + inset, -y + inset, z0)}, {"hi", vec(hx - inset, y - inset, z1)}};
         return json{

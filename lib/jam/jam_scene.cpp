@@ -42,8 +42,6 @@ TierSettings tier_settings(const std::string& tier) {
     return {6.0, 1.5e-3, 0.75e-3};
 }
 
-json vec(double x, double y, double z) { return json::array({x, y, z}); }
-
 }  // namespace
 
 JamScene read_jam_scene(const json& user, const std::string& tier, const std::string& base_directory) {
@@ -252,13 +250,13 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     json field_json;
     const double rb = v.bore_radius();
     out.slab_half_thickness = slab_diameters > 0 ? 0.5 * slab_diameters * out.largest_diameter : 0.0;
-    const double hx = out.slab_half_thickness > 0 ? std::min(out.slab_half_thickness, rb) : rb;
+    const double hx = out.half_width();
     if (out.field_type == "uniform") {
         const double b = field.quantity("flux_density", units::magnetic_flux_density, 0.230, Bounds::non_negative());
         const Vec3 dir = field.vector("direction", units::dimensionless, Vec3{0, 1, 0});
         if (norm(dir) == 0) field.fail("direction", "must be a non-zero vector");
         const Vec3 b0 = dir * (b / norm(dir));
-        field_json = {{"type", "uniform"}, {"flux_density", vec(b0.x, b0.y, b0.z)}};
+        field_json = {{"type", "uniform"}, {"flux_density", json::array({b0.x, b0.y, b0.z})}};
     } else {
         std::string file = field.text("file", std::nullopt);
         const double scale = field.number("scale", 1.0, Bounds::non_negative());

@@ -51,6 +51,11 @@ struct JamScene {
     double feed_fraction = 0;       // the mix's volume fraction
     std::string field_type;         // uniform or map
     std::string tier;
+
+    // A slab thinner than the bore cuts the valve with two plane faces; otherwise the full bore.
+    bool is_slab() const { return slab_half_thickness > 0 && slab_half_thickness < valve.bore_radius(); }
+    // Half the modelled width across the slab (x): the slab's, or the bore's radius.
+    double half_width() const { return is_slab() ? slab_half_thickness : valve.bore_radius(); }
 };
 
 std::vector<std::string> jam_tier_names();
