@@ -185,6 +185,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 jams += o.jammed;
                 runs.push_back({{"outcome", o.report["results"]["outcome"]},
                                 {"time_to_arrest_s", o.report["results"]["time_to_arrest_s"]},
+                                {"closed_flow_share", o.report["results"].value("closed_flow_share", json(nullptr))},
                                 {"jam_report", seed_report.string()}});
             }
             // 3. The open valve's flow at the supply pressure.

@@ -109,6 +109,7 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             nlohmann::json& runs = campaign["runs"];
             runs.push_back({{"seed", first_seed + k}, {"outcome", outcome.report["results"]["outcome"]},
                             {"time_to_arrest_s", outcome.report["results"]["time_to_arrest_s"]},
+                            {"closed_flow_share", outcome.report["results"].value("closed_flow_share", nlohmann::json(nullptr))},
                             {"status", outcome.report["status"]}});
             if (k == 0) report = outcome.report;
             if (outcome.exit_status != 0) {

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "jam/axial_resistance.hpp"
+#include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
@@ -170,6 +171,24 @@ TEST_CASE("steady flow: two windows of equal flux and a settled flow scale, noth
     }
     CHECK_FALSE(steady_flow(flux_history(2e-3, constant), falling, 0.0, c).steady);
     CHECK(steady_flow(flux_history(2e-3, constant), settled, 0.0, c).steady);
+}
+
+TEST_CASE("closed flow share: the flow scale over the arrest window against the no-field reference") {
+    // Samples every 10 us, half-way between whole multiples, so that none sits on a window's edge.
+    // During the 1 ms flow period the scale ramps 0 -> 2, so its mean over the reference half
+    // [0.5, 1] ms (samples placed symmetrically in it) is 1.5 exactly; after it the scale is 0.3
+    // in the arrest window [1.6, 1.8] ms and 0.9 elsewhere: the share is 0.3 / 1.5 = 0.2.
+    std::vector<FlowSample> h;
+    for (int i = 0; i < 300; ++i) {
+        const double t = 5e-6 + i * 10e-6;
+        h.push_back({t, i < 100 ? 2.0 * t / 1e-3 : (i >= 160 && i < 180) ? 0.3 : 0.9, 0, 0});
+    }
+    CHECK(mean_flow_scale(h, 0.5e-3, 1e-3) == rel(1.5));
+    CHECK(closed_flow_share(h, 1e-3, 1.6e-3, 0.2e-3) == rel(0.2));
+    // No sample in a window: no figure rather than a made-up one.
+    CHECK(std::isnan(mean_flow_scale(h, 4e-3, 5e-3)));
+    CHECK(std::isnan(closed_flow_share(h, 1e-3, 4e-3, 0.2e-3)));
+    CHECK(std::isnan(closed_flow_share({}, 1e-3, 1.6e-3, 0.2e-3)));
 }
 
 }  // TEST_SUITE

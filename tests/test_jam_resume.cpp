@@ -89,6 +89,10 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     double lowest = 1;
     for (const auto& row : a["results"]["flow_history"]["rows"]) lowest = std::min(lowest, row[1].get<double>());
     REQUIRE(lowest < 0.9);
+    // An arrest under pressure-driven flow reports how much fluid the closed valve still passes.
+    REQUIRE(a["results"]["closed_flow_share"].is_number());
+    CHECK(a["results"]["closed_flow_share"].get<double>() > 0.0);
+    CHECK(a["seeds"][0]["closed_flow_share"] == a["results"]["closed_flow_share"]);
     const long total = steps[0] + steps[1] + steps[2];
 
     // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the

@@ -7,6 +7,7 @@
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
 #include "jam/axial_resistance.hpp"
+#include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_checkpoint.hpp"
@@ -90,6 +91,12 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
         r["resistance_cells"] = resistance_cells;
         if (js.flow.coupled) r["rings_per_slice"] = js.flow.rings;
         r["final_flow_scale"] = st.flow_state.scale;
+        // The leak of the closed valve: does the jam stop the fluid as well as the grains?
+        const double leak = st.jammed ? closed_flow_share(st.flow_history, js.protocol.flow_time,
+                                                          js.protocol.flow_time + st.arrest_time,
+                                                          js.protocol.arrest_window)
+                                      : std::nan("");
+        r["closed_flow_share"] = std::isfinite(leak) ? nlohmann::json(leak) : nlohmann::json(nullptr);
         r["final_densest_cell_fraction"] = st.flow_state.max_fraction;
         nlohmann::json sh = nlohmann::json::array();
         const std::size_t step = std::max<std::size_t>(1, st.flow_history.size() / 200);
