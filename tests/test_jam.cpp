@@ -244,7 +244,7 @@ TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, sh
     CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() == rel(0.8e-3));
 }
 
-TEST_CASE("jam scene: every bundled valve example is accepted at every tier") {
+TEST_CASE("jam scene: every bundled valve example, and every design example's jam block, is accepted at every tier") {
     for (const char* name :
          {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x", "valve_mix2_30x_table21"})
         for (const std::string& tier : jam_tier_names()) {
@@ -254,6 +254,22 @@ TEST_CASE("jam scene: every bundled valve example is accepted at every tier") {
             const json scene = json::parse(slurp(dir + "/" + name + ".json"));
             CHECK_NOTHROW(read_jam_scene(scene, tier, dir));
         }
+    // The design examples' jam blocks, as `mrjam design` checks them before its first field solve:
+    // with each constriction's valve and a field (a uniform one stands in for the map to come).
+    for (const char* name : {"design_quick", "design_rectangular", "design_insert"}) {
+        const std::string dir = std::string(MRJAM_SOURCE_DIR) + "/examples";
+        const json design = json::parse(slurp(dir + "/" + name + ".json"));
+        for (const auto& constriction : design.at("constrictions"))
+            for (const std::string& tier : jam_tier_names()) {
+                CAPTURE(name);
+                CAPTURE(constriction);
+                CAPTURE(tier);
+                json scene = design.at("jam");
+                scene["valve"] = {{"constriction", constriction}};
+                scene["field"] = {{"type", "uniform"}};
+                CHECK_NOTHROW(read_jam_scene(scene, tier, dir));
+            }
+    }
     // The fine grains' example runs the coupled flow with the taper's mirror as its jet.
     const json fine = json::parse(slurp(std::string(MRJAM_SOURCE_DIR) + "/examples/valve_10um_30x.json"));
     const JamScene js = read_jam_scene(fine, "quick", ".");
