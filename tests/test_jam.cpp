@@ -228,6 +228,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("coupled_pressure", {{"fluid", {{"flow", "coupled"}, {"supply_pressure", "1 kPa"}}}}, "/fluid/supply_pressure");
     refused("coupled_slot", {{"valve", {{"orifice", "slot"}, {"slot_width", "0.6 mm"}}}, {"fluid", {{"flow", "coupled"}}}},
             "/fluid/flow");
+    refused("negative_hold", {{"protocol", {{"hold_time", "-0.1 ms"}}}}, "/protocol/hold_time");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }

@@ -186,6 +186,42 @@ TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
     CHECK(rb == ra);
 }
 
+// protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
+// The tiny scene arrests; with a hold the release stage must run about hold / dt steps with the
+// magnet still on before it goes off (without a hold: at most the one step that switches it), and
+// the report must say whether the grains stayed put over the hold.
+TEST_CASE("jam: a hold keeps the field on after the arrest before the release test") {
+    TempDir dir;
+    const double hold = 0.01e-3;
+    json scene = tiny_scene(dir.file("out_hold"), 0);
+    scene["protocol"]["hold_time"] = "0.01 ms";
+    const Result with_hold = jam(dir, "hold", scene, "");
+    CAPTURE(with_hold.err);
+    REQUIRE(with_hold.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("hold_report.json")));
+    const json& res = a["results"];
+    REQUIRE(res["jammed"] == true);
+    const json& stages = res["stages"];
+    REQUIRE(stages.size() == 3);
+    auto off = [&](int k) { return stages[k]["state"]["magnetic"]["steps_with_magnet_off"].get<long>(); };
+    const long on_in_release = stages[2]["steps"].get<long>() - (off(2) - off(1));
+    const double dt = res["timestep_s"].get<double>();
+    CHECK(std::abs(on_in_release - hold / dt) <= 2);
+    REQUIRE(res["hold"].is_object());
+    const double share = res["hold"]["flux_share"].get<double>();
+    CHECK(res["hold"]["held"].get<bool>() == (share < 0.95));  // the scene's arrest_fraction
+    CHECK(res["hold"]["closed_flow_share_at_end"].is_number());
+    // The same scene without a hold: the field goes off at the arrest, and no "hold" is reported.
+    const Result plain = jam(dir, "plain", tiny_scene(dir.file("out_plain"), 0), "");
+    REQUIRE(plain.exit_code == 0);
+    const json b = json::parse(slurp(dir.file("plain_report.json")));
+    const json& pst = b["results"]["stages"];
+    const long plain_on = pst[2]["steps"].get<long>() - (pst[2]["state"]["magnetic"]["steps_with_magnet_off"].get<long>() -
+                                                        pst[1]["state"]["magnetic"]["steps_with_magnet_off"].get<long>());
+    CHECK(plain_on <= 1);
+    CHECK_FALSE(b["results"].contains("hold"));
+}
+
 TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
     TempDir dir;
     const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");

@@ -122,7 +122,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
             {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
             {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
                                     {{"name", "field_on"}, {"duration", js.protocol.max_time}},
-                                    {{"name", "release"}, {"duration", std::max(js.protocol.release_time, 1e-12)}}})},
+                                    {{"name", "release"}, {"duration", std::max(js.protocol.hold_time + js.protocol.release_time, 1e-12)}}})},
             {"output", output_json}};
 }
 

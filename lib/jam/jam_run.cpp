@@ -24,6 +24,20 @@ namespace mrjam {
 
 namespace {
 
+// The hold (protocol/hold_time): with the field kept on after the arrest, did the grains stay put,
+// and how much fluid does the valve pass at its end? Null until a run has held that long.
+nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p) {
+    const auto& h = st.flux.history();
+    if (!st.jammed || h.empty() || h.back().first < st.release_start) return nullptr;
+    const double start = st.release_start - p.hold_time;  // the arrest was called here
+    const double rate = st.flux.rate_between(start, st.release_start);
+    const double leak = closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window,
+                                          p.arrest_window);
+    return {{"held", rate < p.arrest_fraction * st.base_rate},
+            {"flux_share", rate / st.base_rate},
+            {"closed_flow_share_at_end", std::isfinite(leak) ? nlohmann::json(leak) : nlohmann::json(nullptr)}};
+}
+
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
 void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
                        std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete) {
@@ -107,6 +121,13 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                              {"rows", sh}};
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+    if (js.protocol.hold_time > 0) {
+        r["hold"] = hold_results(st, js.protocol);
+        if (r["hold"].is_object() && !r["hold"]["held"].get<bool>())
+            report["warnings"].push_back(
+                "the arrest did not hold: with the field still on, the grain flux over protocol/hold_time came "
+                "back above arrest_fraction of the no-field flux, so the valve creeps at this pressure");
+    }
 }
 
 std::unique_ptr<CoupledFlow> make_coupled_flow(const JamScene& js, double viscosity) {
@@ -227,8 +248,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                 st.jammed = true;
                 st.arrest_time = t - p.arrest_window - p.flow_time;  // the low-flux window's start
                 st.passed_at_arrest = st.flux.passed();
-                field->switch_off_at(t);
-                st.release_start = t;
+                // The field stays on for the hold (protocol/hold_time; 0 by default), then goes off.
+                field->switch_off_at(t + p.hold_time);
+                st.release_start = t + p.hold_time;
                 return true;
             }
             // Or a steady flow that has not arrested: no jam, without waiting for max_time.

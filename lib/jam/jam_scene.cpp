@@ -292,6 +292,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         protocol.fail("arrest_fraction",
                       "must lie in (0, 1): arrest is flux below this share of the no-field flux "
                       "(zero would never be reached by a noisy count)");
+    p.hold_time = protocol.quantity("hold_time", units::time, p.hold_time, Bounds::non_negative());
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);

@@ -19,6 +19,7 @@ struct JamProtocol {
     double max_time = 3e-3;         // s, with the field, unless arrest comes first
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long
     double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux
+    double hold_time = 0;           // s, field kept on after an arrest before the release test (does the jam hold, seal?)
     double release_time = 1e-3;     // s, field off after an arrest
     double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
     long observe_every = 50;        // steps between flux observations
