@@ -15,9 +15,9 @@ double mean_flow_scale(const std::vector<FlowSample>& history, double t0, double
     return n > 0 ? sum / n : std::nan("");
 }
 
-double closed_flow_share(const std::vector<FlowSample>& history, double flow_time, double arrest_start, double window) {
+double closed_flow_share(const std::vector<FlowSample>& history, double flow_time, double window_start, double window) {
     const double open = mean_flow_scale(history, 0.5 * flow_time, flow_time);
-    const double closed = mean_flow_scale(history, arrest_start, arrest_start + window);
+    const double closed = mean_flow_scale(history, window_start, window_start + window);
     return closed / open;  // NaN propagates from either mean
 }
 

@@ -3,9 +3,10 @@
 // stops the grains; whether it stops the fluid depends on how tightly the arrested bed packs, and
 // a designer needs both. The share is the mean flow scale over the arrest window (the low-flux
 // window that called the arrest) over its mean in the no-field reference period (the second half
-// of the flow period, where the no-field grain flux is measured too). The protocol switches the
-// field off right after the arrest window, so that window is all of the closed valve a run sees:
-// the share is the leak at the moment of arrest, before any further consolidation of the bed.
+// of the flow period, where the no-field grain flux is measured too): the leak at the moment of
+// arrest. Unless the protocol holds the field on after the arrest (protocol/hold_time), the field
+// goes off right after that window; with a hold the same share over the hold's last window says
+// whether the bed packs on and seals.
 #include <vector>
 
 #include "jam/axial_resistance.hpp"
@@ -17,8 +18,8 @@ namespace mrjam {
 double mean_flow_scale(const std::vector<FlowSample>& history, double t0, double t1);
 
 // The closed valve's flow as a share of the open (no-field) flow: mean over
-// [arrest_start, arrest_start + window] over mean over [flow_time / 2, flow_time]; NaN when
+// [window_start, window_start + window] over mean over [flow_time / 2, flow_time]; NaN when
 // either holds no sample.
-double closed_flow_share(const std::vector<FlowSample>& history, double flow_time, double arrest_start, double window);
+double closed_flow_share(const std::vector<FlowSample>& history, double flow_time, double window_start, double window);
 
 }  // namespace mrjam

@@ -24,6 +24,9 @@ namespace mrjam {
 
 namespace {
 
+// A figure that may not exist (NaN: no samples to form it) as a number or null.
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
 // The hold (protocol/hold_time): with the field kept on after the arrest, did the grains stay put,
 // and how much fluid does the valve pass at its end? Null until a run has held that long.
 nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p) {
@@ -35,7 +38,7 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p) {
                                           p.arrest_window);
     return {{"held", rate < p.arrest_fraction * st.base_rate},
             {"flux_share", rate / st.base_rate},
-            {"closed_flow_share_at_end", std::isfinite(leak) ? nlohmann::json(leak) : nlohmann::json(nullptr)}};
+            {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
@@ -110,7 +113,7 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                                           js.protocol.flow_time + st.arrest_time,
                                                           js.protocol.arrest_window)
                                       : std::nan("");
-        r["closed_flow_share"] = std::isfinite(leak) ? nlohmann::json(leak) : nlohmann::json(nullptr);
+        r["closed_flow_share"] = number_or_null(leak);
         r["final_densest_cell_fraction"] = st.flow_state.max_fraction;
         nlohmann::json sh = nlohmann::json::array();
         const std::size_t step = std::max<std::size_t>(1, st.flow_history.size() / 200);
