@@ -158,7 +158,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
                                         {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},
                                         {"taper_middle_z_m", taper_middle_z}};
-            int jams = 0;
+            int jams = 0, arrests = 0;
             json runs = json::array();
             for (int k = 0; k < seeds; ++k) {
                 JamRunOptions options;
@@ -182,11 +182,11 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
                 }
-                jams += o.jammed;
-                runs.push_back({{"outcome", o.report["results"]["outcome"]},
-                                {"time_to_arrest_s", o.report["results"]["time_to_arrest_s"]},
-                                {"closed_flow_share", o.report["results"].value("closed_flow_share", json(nullptr))},
-                                {"jam_report", seed_report.string()}});
+                jams += o.stops_flow;  // with a hold (protocol/hold_time), only arrests that held
+                arrests += o.jammed;
+                json record = jam_seed_record(o);
+                record["jam_report"] = seed_report.string();
+                runs.push_back(record);
             }
             // 3. The open valve's flow at the supply pressure.
             const double phi = js.resolved["grains"].value("volume_fraction", 0.345);
@@ -198,7 +198,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
             rows.push_back({{"constriction", name}, {"diameter_m", diameter},
                             {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
                             {"B_on_axis", field_on_axis},
-                            {"jam_probability", probability}, {"runs", runs},
+                            {"jam_probability", probability}, {"arrest_probability", static_cast<double>(arrests) / seeds},
+                            {"runs", runs},
                             {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
                             {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                             {"field_map", map.string()}});

@@ -107,10 +107,10 @@ void add_jam_command(CLI::App& app, int& exit_status) {
                           << k + 1 << "/" << seeds << ")\n";
             const JamOutcome outcome = run_jam(scene, first_seed + k, options);
             nlohmann::json& runs = campaign["runs"];
-            runs.push_back({{"seed", first_seed + k}, {"outcome", outcome.report["results"]["outcome"]},
-                            {"time_to_arrest_s", outcome.report["results"]["time_to_arrest_s"]},
-                            {"closed_flow_share", outcome.report["results"].value("closed_flow_share", nlohmann::json(nullptr))},
-                            {"status", outcome.report["status"]}});
+            nlohmann::json record = jam_seed_record(outcome);
+            record["seed"] = first_seed + k;
+            record["status"] = outcome.report["status"];
+            runs.push_back(record);
             if (k == 0) report = outcome.report;
             if (outcome.exit_status != 0) {
                 nlohmann::json partial = outcome.report;
@@ -128,19 +128,22 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             if (k == 0) campaign["first_report"] = report;
         }
         const nlohmann::json& runs = campaign["runs"];
+        // A seed counts as a jam when its arrest stopped the flow (with a hold: and held); the time
+        // to arrest is every arrest's, held or not.
         int jams = 0;
         std::vector<double> arrest_times;
-        for (const auto& run : runs)
-            if (run["time_to_arrest_s"].is_number()) {  // a number exactly when the seed jammed
-                ++jams;
-                arrest_times.push_back(run["time_to_arrest_s"].get<double>());
-            }
+        for (const auto& run : runs) {
+            const bool arrested = run["time_to_arrest_s"].is_number();  // a number exactly when the seed arrested
+            if (arrested) arrest_times.push_back(run["time_to_arrest_s"].get<double>());
+            jams += run.value("stops_flow", arrested);  // checkpoints from before stops_flow: the arrest alone
+        }
         double mean = 0, spread = 0;
         for (double t : arrest_times) mean += t / arrest_times.size();
         for (double t : arrest_times) spread += (t - mean) * (t - mean) / std::max<std::size_t>(1, arrest_times.size() - 1);
         report["inputs_jam"] = scene.resolved;
         report["seeds"] = runs;
         report["results"]["jam_probability"] = static_cast<double>(jams) / seeds;
+        report["results"]["arrest_probability"] = static_cast<double>(arrest_times.size()) / seeds;
         report["results"]["time_to_arrest_mean_s"] = arrest_times.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean);
         report["results"]["time_to_arrest_std_s"] =
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));

@@ -5,6 +5,7 @@
 #include "jam/axial_resistance.hpp"
 #include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
+#include "jam/jam_outcome.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
 #include "jam/throat_flux.hpp"
@@ -189,6 +190,38 @@ TEST_CASE("closed flow share: the flow scale over the arrest window against the 
     CHECK(std::isnan(mean_flow_scale(h, 4e-3, 5e-3)));
     CHECK(std::isnan(closed_flow_share(h, 1e-3, 4e-3, 0.2e-3)));
     CHECK(std::isnan(closed_flow_share({}, 1e-3, 1.6e-3, 0.2e-3)));
+}
+
+TEST_CASE("jam outcome: Table 3.2's words, and a hold that breaks is no jam") {
+    auto verdict = [](bool jammed, bool hold_asked, bool held, bool released) {
+        JamVerdict v;
+        v.jammed = jammed;
+        v.hold_asked = hold_asked;
+        v.held = held;
+        v.released = released;
+        return v;
+    };
+    // Without a hold the arrest alone decides, as the source's simulations did.
+    CHECK(jam_outcome_word(verdict(false, false, false, false)) == "fail-no-jam");
+    CHECK(jam_outcome_word(verdict(true, false, false, true)) == "success");
+    CHECK(jam_outcome_word(verdict(true, false, false, false)) == "fail-irreversible");
+    CHECK(jam_stops_flow(verdict(true, false, false, false)));
+    CHECK_FALSE(jam_stops_flow(verdict(false, false, false, false)));
+    // With a hold an arrest must also hold: one that breaks lets the fluid through with the
+    // magnet on, which the experiment would score as no jam, whatever the release test says.
+    CHECK(jam_outcome_word(verdict(true, true, true, true)) == "success");
+    CHECK(jam_outcome_word(verdict(true, true, true, false)) == "fail-irreversible");
+    CHECK(jam_outcome_word(verdict(true, true, false, true)) == "fail-no-hold");
+    CHECK(jam_outcome_word(verdict(true, true, false, false)) == "fail-no-hold");
+    CHECK(jam_stops_flow(verdict(true, true, true, true)));
+    CHECK_FALSE(jam_stops_flow(verdict(true, true, false, true)));
+    // No outcome before the protocol has ended, and none without a no-field reference.
+    JamVerdict cut = verdict(true, true, false, false);
+    cut.incomplete = true;
+    CHECK(jam_outcome_word(cut).rfind("incomplete", 0) == 0);
+    JamVerdict blind = verdict(false, false, false, false);
+    blind.undetermined = true;
+    CHECK(jam_outcome_word(blind) == "undetermined");
 }
 
 }  // TEST_SUITE

@@ -213,6 +213,15 @@ TEST_CASE("jam: a hold keeps the field on after the arrest before the release te
     const double share = res["hold"]["flux_share"].get<double>();
     CHECK(res["hold"]["held"].get<bool>() == (share < 0.95));  // the scene's arrest_fraction
     CHECK(res["hold"]["closed_flow_share_at_end"].is_number());
+    // The outcome and the jam probability follow the hold: a broken hold is no jam.
+    const bool held = res["hold"]["held"].get<bool>();
+    CHECK(res["stops_flow"] == held);
+    CHECK((res["outcome"] == "fail-no-hold") == !held);
+    CHECK(res["jam_probability"].get<double>() == (held ? 1.0 : 0.0));
+    CHECK(res["arrest_probability"].get<double>() == 1.0);
+    REQUIRE(a["seeds"].size() == 1);
+    CHECK(a["seeds"][0]["stops_flow"] == held);
+    CHECK(a["seeds"][0]["hold"] == res["hold"]);
     // The same scene without a hold: the field goes off at the arrest, and no "hold" is reported.
     const Result plain = jam(dir, "plain", tiny_scene(dir.file("out_plain"), 0), "");
     REQUIRE(plain.exit_code == 0);

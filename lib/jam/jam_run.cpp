@@ -11,6 +11,7 @@
 #include "jam/contact_clusters.hpp"
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_checkpoint.hpp"
+#include "jam/jam_outcome.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/jam_protocol_state.hpp"
 #include "jam/jam_snapshots.hpp"
@@ -41,6 +42,19 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p) {
             {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
+// What the run says about the valve, for the outcome's words and the jam probability.
+JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, bool incomplete) {
+    JamVerdict v;
+    v.undetermined = st.undetermined;
+    v.incomplete = incomplete;
+    v.jammed = st.jammed;
+    v.hold_asked = p.hold_time > 0;
+    const nlohmann::json hold = v.hold_asked ? hold_results(st, p) : nlohmann::json(nullptr);
+    v.held = hold.is_object() && hold["held"].get<bool>();
+    v.released = st.released;
+    return v;
+}
+
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
 void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
                        std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete) {
@@ -61,13 +75,9 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                  : st.steady  ? "steady flow"
                                  : incomplete ? "interruption"
                                               : "max_time";
-    // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
-    r["outcome"] = st.undetermined            ? "undetermined"
-                   : incomplete && !st.jammed ? "incomplete (no arrest yet; resume with mrjam jam --resume)"
-                   : incomplete               ? "incomplete (arrested; release not yet tested)"
-                   : !st.jammed               ? "fail-no-jam"
-                   : st.released              ? "success"
-                                              : "fail-irreversible";
+    const JamVerdict verdict = jam_verdict(st, js.protocol, incomplete);
+    r["outcome"] = jam_outcome_word(verdict);
+    r["stops_flow"] = jam_stops_flow(verdict);
     if (st.steady)
         report["warnings"].push_back(
             "the field period ended on a steady flow (protocol/steady_window), which was "
@@ -129,7 +139,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
         if (r["hold"].is_object() && !r["hold"]["held"].get<bool>())
             report["warnings"].push_back(
                 "the arrest did not hold: with the field still on, the grain flux over protocol/hold_time came "
-                "back above arrest_fraction of the no-field flux, so the valve creeps at this pressure");
+                "back above arrest_fraction of the no-field flux, so the valve creeps at this pressure (outcome "
+                "fail-no-hold; it does not count towards the jam probability)");
     }
 }
 
@@ -162,6 +173,15 @@ void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled) {
 }
 
 }  // namespace
+
+nlohmann::json jam_seed_record(const JamOutcome& outcome) {
+    const nlohmann::json& r = outcome.report.at("results");
+    return {{"outcome", r["outcome"]},
+            {"time_to_arrest_s", r["time_to_arrest_s"]},
+            {"stops_flow", outcome.stops_flow},
+            {"hold", r.value("hold", nlohmann::json(nullptr))},
+            {"closed_flow_share", r.value("closed_flow_share", nlohmann::json(nullptr))}};
+}
 
 JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& options) {
     nlohmann::json engine = js.engine_scene;
@@ -349,6 +369,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     out.exit_status = outcome.exit_status;
     out.jammed = st.jammed;
     out.time_to_arrest = st.arrest_time;
+    out.stops_flow = jam_stops_flow(jam_verdict(st, js.protocol, incomplete));
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
     write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),

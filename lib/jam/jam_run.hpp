@@ -24,10 +24,15 @@ struct JamRunOptions {
 struct JamOutcome {
     nlohmann::json report;     // the engine's report with results.jam filled in
     int exit_status = 0;       // 0, 3 blow-up, 130 interrupted (partial flux history kept)
-    bool jammed = false;
+    bool jammed = false;      // the grain flux arrested with the field on
+    bool stops_flow = false;  // ... and, with protocol/hold_time, stayed arrested over the hold
     double time_to_arrest = -1;
 };
 
 JamOutcome run_jam(const JamScene& scene, long long seed, const JamRunOptions& options);
+
+// One seed's line in a campaign (`mrjam jam --seeds`, `mrjam design`): outcome, time to arrest,
+// whether it stopped the flow, the hold and the closed valve's leak.
+nlohmann::json jam_seed_record(const JamOutcome& outcome);
 
 }  // namespace mrjam
