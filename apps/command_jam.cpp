@@ -153,7 +153,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         write_json_file(args->report, report);
         if (!args->quiet)
             std::cerr << "[jam] " << report["results"]["outcome"].get<std::string>() << " (jam probability "
-                      << report["results"]["jam_probability"].get<double>() << "); report " << args->report << "\n";
+                      << report["results"]["jam_probability"].get<double>() << ", arrest probability "
+                      << report["results"]["arrest_probability"].get<double>() << "); report " << args->report << "\n";
         exit_status = 0;
     });
 }
