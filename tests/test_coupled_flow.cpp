@@ -145,6 +145,9 @@ TEST_CASE("coupled flow: without grains, Poiseuille in every slice, one flow rat
     CHECK(cf.field()->velocity({0.5 * rf, 0, zj}, 0).z > 0);
     CHECK(cf.field()->velocity({1.01 * rf, 0, zj}, 0).z == 0.0);
     CHECK(cf.field()->ring_at({1.01 * rf, 0, zj}) == -1);
+    // A raised supply (protocol/hold_pressure) through the same circuit: clear fluid is linear,
+    // Q0 times the pressure ratio.
+    CHECK(cf.update(s, 2.5 * c.supply_pressure).scale == doctest::Approx(2.5));
 }
 
 TEST_CASE("coupled flow: a packed plug at rest in the throat throttles the flow; moving with the fluid it does not") {

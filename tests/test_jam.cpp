@@ -79,11 +79,17 @@ TEST_CASE("axial resistance: cell volumes, Kozeny-Carman factor, and the circuit
     CHECK(st.scale == rel(P / (P + d1)).epsilon(1e-12));
     CHECK(flow.scale() == st.scale);
     CHECK(st.stretch_pressure == rel(st.scale * d1).epsilon(1e-12));
+    // A raised supply P' through the same circuit (protocol/hold_pressure): s = P' / (P + D1/A).
+    st = one.update(s, flow, true, 4 * P);
+    CHECK(st.scale == rel(4 * P / (P + d1)).epsilon(1e-12));
     // Moving with the fluid: no slip, no extra resistance, the prescribed flow.
     s.particles.velocity = {{0, 0, 0.273}};
     st = one.update(s, flow, true);
     CHECK(st.scale == rel(1.0));
     CHECK(st.stretch_pressure == doctest::Approx(0.0).scale(1.0));
+    // ... and at P' the circuit is linear: the open flow times P' / P.
+    s.particles.velocity = {{0, 0, 4 * 0.273}};
+    CHECK(one.update(s, flow, true, 4 * P).scale == rel(4.0));
     // The prescribed flow is only measured: scale and factors untouched.
     ValveFlow prescribed(v, 0.273);
     s.particles.velocity = {{0, 0, 0}};
@@ -262,6 +268,11 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("coupled_slot", {{"valve", {{"orifice", "slot"}, {"slot_width", "0.6 mm"}}}, {"fluid", {{"flow", "coupled"}}}},
             "/fluid/flow");
     refused("negative_hold", {{"protocol", {{"hold_time", "-0.1 ms"}}}}, "/protocol/hold_time");
+    // A hold pressure is the supply during a hold: it needs both.
+    refused("hold_pressure_without_hold", {{"fluid", {{"flow", "pressure"}}}, {"protocol", {{"hold_pressure", "405 kPa"}}}},
+            "/protocol/hold_pressure");
+    refused("hold_pressure_prescribed", {{"protocol", {{"hold_time", "1 ms"}, {"hold_pressure", "405 kPa"}}}},
+            "/protocol/hold_pressure");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }

@@ -45,7 +45,7 @@ double kozeny_carman_factor(double phi, double feed) {
 
 double AxialResistance::drag_factor(double phi) const { return kozeny_carman_factor(phi, feed_); }
 
-AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, bool drive) const {
+AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, bool drive, double supply) const {
     const std::size_t n = volume_.size();
     const auto& g = s.particles;
     std::vector<double> grain_volume(n, 0.0), d1(n, 0.0), dv(n, 0.0);
@@ -85,7 +85,8 @@ AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, b
         out.stretch_pressure = sum_d1 - sum_dv;
         return out;
     }
-    out.scale = std::clamp((pressure_ + sum_dv) / (pressure_ + sum_d1), 0.0, 1.0);
+    const double drive_pressure = supply > 0 ? supply : pressure_;
+    out.scale = std::clamp((drive_pressure + sum_dv) / (pressure_ + sum_d1), 0.0, drive_pressure / pressure_);
     out.stretch_pressure = out.scale * sum_d1 - sum_dv;
     flow.set_drag_factors(z_lo_, dz_, std::move(factor));
     flow.set_scale(out.scale);

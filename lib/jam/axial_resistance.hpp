@@ -20,7 +20,8 @@
 //        P = s P + sum_k dP_k(s)   =>   s = (P + sum_k Dv_k/A_k) / (P + sum_k D1_k/A_k).
 //    Free-flowing grains (v = u) give s = 1; an arrested, packed bed whose drag at the
 //    prescribed flow would far exceed P stops the fluid (s -> 0), and a bed the supply can
-//    push through keeps a share of the flow.
+//    push through keeps a share of the flow. A supply P' other than the P the circuit was
+//    sized for (protocol/hold_pressure) drives s = (P' + sum Dv/A) / (P + sum D1/A), up to P'/P.
 #include <vector>
 
 #include "fluid/valve_flow.hpp"
@@ -48,7 +49,8 @@ public:
                     double cell_length, double feed_fraction, double supply_pressure);
     // Recomputes the cells from the grains; when `drive` sets the flow's drag factors and scale,
     // otherwise (the prescribed flow) only measures, with Stokes drag (factors 1, scale 1).
-    AxialResistanceState update(const System& s, ValveFlow& flow, bool drive) const;
+    // `supply` is the supply pressure now (the circuit stays sized for the scene's); 0 for that one.
+    AxialResistanceState update(const System& s, ValveFlow& flow, bool drive, double supply = 0) const;
     // Sets the flow's cell factors (as update() does; for a resumed run).
     void apply(ValveFlow& flow, std::vector<double> factors) const { flow.set_drag_factors(z_lo_, dz_, std::move(factors)); }
     // Kozeny-Carman's per-grain drag relative to the feed fraction (>= 1).

@@ -72,7 +72,7 @@ CoupledFlow::CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& 
     field_->set_field(u, std::vector<double>(volume_.size(), 1.0));
 }
 
-AxialResistanceState CoupledFlow::update(const System& s) const {
+AxialResistanceState CoupledFlow::update(const System& s, double supply) const {
     const auto& slices = field_->slices();
     const auto m = static_cast<std::size_t>(field_->rings());
     const std::size_t cells = volume_.size();
@@ -130,8 +130,10 @@ AxialResistanceState CoupledFlow::update(const System& s) const {
         sum_b += dz * qb[k] / qa[k];
         sum_resistance += dz / qa[k];
     }
-    // P = R_c Q + sum_k dz_k (Q - Qb_k) / Qa_k.
-    const double q = std::clamp((set_.supply_pressure + sum_b) / (circuit_resistance_ + sum_resistance), 0.0, q0_);
+    // P = R_c Q + sum_k dz_k (Q - Qb_k) / Qa_k; clear fluid runs at Q0 P / P_0 at most.
+    const double drive_pressure = supply > 0 ? supply : set_.supply_pressure;
+    const double q = std::clamp((drive_pressure + sum_b) / (circuit_resistance_ + sum_resistance), 0.0,
+                                q0_ * drive_pressure / set_.supply_pressure);
     std::vector<double> u(cells);
     out.stretch_pressure = 0;
     for (std::size_t k = 0; k < slices.size(); ++k) {

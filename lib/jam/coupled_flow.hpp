@@ -54,7 +54,9 @@ public:
     CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& settings);
     std::shared_ptr<CoupledValveFlow> field() const { return field_; }
     // Bins the grains, solves the slices and the circuit, and sets the field the grains feel.
-    AxialResistanceState update(const System& s) const;
+    // `supply` is the supply pressure now (protocol/hold_pressure; the circuit stays sized for the
+    // settings' supply_pressure); 0 for that one.
+    AxialResistanceState update(const System& s, double supply = 0) const;
     double reference_flow_rate() const { return q0_; }
     // What the clear stretch costs at Q0 (Poiseuille on the grid), Pa.
     double clear_stretch_pressure() const { return clear_pressure_; }

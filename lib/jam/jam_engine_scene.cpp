@@ -95,8 +95,11 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
              {"size", size},
              {"placement",
               {{"method", "random"}, {"volume_fraction", js.feed_fraction}, {"region", region(z0, z1, radius)}}}});
-    const double throat_speed = v.is_slot() ? SlotValveFlow(v.slot(), js.flow.bore_speed).plug_speed(0.0)
-                                            : js.flow.bore_speed * std::pow(rb / v.throat_radius(), 2);
+    // The flow scales with the supply pressure through the linear circuit, so a raised hold
+    // pressure speeds up what the contacts may see.
+    const double pressure_ratio = std::max(1.0, js.protocol.hold_pressure / js.flow.supply_pressure);
+    const double throat_speed = pressure_ratio * (v.is_slot() ? SlotValveFlow(v.slot(), js.flow.bore_speed).plug_speed(0.0)
+                                                              : js.flow.bore_speed * std::pow(rb / v.throat_radius(), 2));
     json flow_json = {
         {"type", "valve"}, {"valve", valve_si}, {"bore_speed", js.flow.bore_speed}, {"profile", in.profile}};
     if (in.profile == "converging") flow_json["jet_length"] = js.flow.jet_length;

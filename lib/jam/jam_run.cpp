@@ -30,26 +30,31 @@ nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::js
 
 // The hold (protocol/hold_time): with the field kept on after the arrest, did the grains stay put,
 // and how much fluid does the valve pass at its end? Null until a run has held that long.
-nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p) {
+nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, double supply_pressure) {
     const auto& h = st.flux.history();
     if (!st.jammed || h.empty() || h.back().first < st.release_start) return nullptr;
     const double start = st.release_start - p.hold_time;  // the arrest was called here
     const double rate = st.flux.rate_between(start, st.release_start);
+    // As a share of the open flow at the pressure held (the circuit is linear: P_hold / P times
+    // the open flow at the supply pressure).
     const double leak = closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window,
-                                          p.arrest_window);
+                                          p.arrest_window) /
+                        (p.hold_pressure / supply_pressure);
     return {{"held", rate < p.arrest_fraction * st.base_rate},
             {"flux_share", rate / st.base_rate},
+            {"pressure_Pa", p.hold_pressure},
             {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
 // What the run says about the valve, for the outcome's words and the jam probability.
-JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, bool incomplete) {
+JamVerdict jam_verdict(const JamProtocolState& st, const JamScene& js, bool incomplete) {
+    const JamProtocol& p = js.protocol;
     JamVerdict v;
     v.undetermined = st.undetermined;
     v.incomplete = incomplete;
     v.jammed = st.jammed;
     v.hold_asked = p.hold_time > 0;
-    const nlohmann::json hold = v.hold_asked ? hold_results(st, p) : nlohmann::json(nullptr);
+    const nlohmann::json hold = v.hold_asked ? hold_results(st, p, js.flow.supply_pressure) : nlohmann::json(nullptr);
     v.held = hold.is_object() && hold["held"].get<bool>();
     v.released = st.released;
     return v;
@@ -75,7 +80,7 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                  : st.steady  ? "steady flow"
                                  : incomplete ? "interruption"
                                               : "max_time";
-    const JamVerdict verdict = jam_verdict(st, js.protocol, incomplete);
+    const JamVerdict verdict = jam_verdict(st, js, incomplete);
     r["outcome"] = jam_outcome_word(verdict);
     r["stops_flow"] = jam_stops_flow(verdict);
     if (st.steady)
@@ -135,7 +140,7 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
     if (js.protocol.hold_time > 0) {
-        r["hold"] = hold_results(st, js.protocol);
+        r["hold"] = hold_results(st, js.protocol, js.flow.supply_pressure);
         if (r["hold"].is_object() && !r["hold"]["held"].get<bool>())
             report["warnings"].push_back(
                 "the arrest did not hold: with the field still on, the grain flux over protocol/hold_time came "
@@ -232,10 +237,12 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
         st.flux.observe(sys);
+        // From the arrest on the supply is the hold pressure (protocol/hold_pressure; the same by default).
+        const double supply = st.jammed ? p.hold_pressure : js.flow.supply_pressure;
         if (coupled)
-            st.flow_state = coupled->update(sys);
+            st.flow_state = coupled->update(sys, supply);
         else if (valve_flow)
-            st.flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven);
+            st.flow_state = resistance.update(sys, *valve_flow, js.flow.pressure_driven, supply);
         else
             return;
         if (js.flow.pressure_driven)
@@ -369,7 +376,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     out.exit_status = outcome.exit_status;
     out.jammed = st.jammed;
     out.time_to_arrest = st.arrest_time;
-    out.stops_flow = jam_stops_flow(jam_verdict(st, js.protocol, incomplete));
+    out.stops_flow = jam_stops_flow(jam_verdict(st, js, incomplete));
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
     write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),

@@ -293,6 +293,15 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                       "must lie in (0, 1): arrest is flux below this share of the no-field flux "
                       "(zero would never be reached by a noisy count)");
     p.hold_time = protocol.quantity("hold_time", units::time, p.hold_time, Bounds::non_negative());
+    // The experiment raised the supply pressure on a jammed valve (more than 405 kPa, section 3.4):
+    // from the arrest on, the supply is hold_pressure, through the same circuit.
+    const bool raised = protocol.has("hold_pressure");
+    p.hold_pressure = protocol.quantity("hold_pressure", units::pressure, out.flow.supply_pressure, Bounds::positive());
+    if (raised && !out.flow.pressure_driven)
+        protocol.fail("hold_pressure", "needs a pressure-driven flow (fluid/flow \"pressure\" or \"coupled\"); the "
+                                       "prescribed flow has no supply pressure");
+    if (raised && !(p.hold_time > 0))
+        protocol.fail("hold_pressure", "is the supply pressure during the hold: give protocol/hold_time too");
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);

@@ -20,6 +20,8 @@ struct JamProtocol {
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long
     double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux
     double hold_time = 0;           // s, field kept on after an arrest before the release test (does the jam hold, seal?)
+    double hold_pressure = 0;       // Pa, supply pressure from the arrest on (the experiment raised it to > 405 kPa); the
+                                    // scene's supply_pressure unless given
     double release_time = 1e-3;     // s, field off after an arrest
     double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
     long observe_every = 50;        // steps between flux observations
