@@ -189,12 +189,15 @@ TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
 // protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
 // The tiny scene arrests; with a hold the release stage must run about hold / dt steps with the
 // magnet still on before it goes off (without a hold: at most the one step that switches it), and
-// the report must say whether the grains stayed put over the hold.
+// the report must say whether the grains stayed put over the hold. The hold raises the supply
+// from 10 to 40 kPa (protocol/hold_pressure) through the same circuit, so the flow scale, at most
+// 1 at the scene's supply, may reach past it from the arrest on and only then.
 TEST_CASE("jam: a hold keeps the field on after the arrest before the release test") {
     TempDir dir;
     const double hold = 0.01e-3;
     json scene = tiny_scene(dir.file("out_hold"), 0);
     scene["protocol"]["hold_time"] = "0.01 ms";
+    scene["protocol"]["hold_pressure"] = "40 kPa";
     const Result with_hold = jam(dir, "hold", scene, "");
     CAPTURE(with_hold.err);
     REQUIRE(with_hold.exit_code == 0);
@@ -213,6 +216,17 @@ TEST_CASE("jam: a hold keeps the field on after the arrest before the release te
     const double share = res["hold"]["flux_share"].get<double>();
     CHECK(res["hold"]["held"].get<bool>() == (share < 0.95));  // the scene's arrest_fraction
     CHECK(res["hold"]["closed_flow_share_at_end"].is_number());
+    CHECK(res["hold"]["pressure_Pa"].get<double>() == rel(40e3));
+    // The flow scale: never above 1 before the arrest, above it after (the tiny scene's "arrest"
+    // at 95 % of the no-field flux leaves the grains flowing, so 4x the pressure drives more flow).
+    const double arrest_at = res["field_switched_on_s"].get<double>() + res["time_to_arrest_s"].get<double>();
+    double before = 0, after = 0;
+    for (const auto& row : res["flow_history"]["rows"]) {
+        double& peak = row[0].get<double>() < arrest_at ? before : after;
+        peak = std::max(peak, row[1].get<double>());
+    }
+    CHECK(before <= 1.0);
+    CHECK(after > 1.5);
     // The outcome and the jam probability follow the hold: a broken hold is no jam.
     const bool held = res["hold"]["held"].get<bool>();
     CHECK(res["stops_flow"] == held);
