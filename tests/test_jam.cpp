@@ -198,6 +198,21 @@ TEST_CASE("closed flow share: the flow scale over the arrest window against the 
     CHECK(std::isnan(closed_flow_share({}, 1e-3, 1.6e-3, 0.2e-3)));
 }
 
+TEST_CASE("hold pressure: a step at the arrest, or a linear ramp to it") {
+    JamProtocol p;
+    p.hold_pressure = 405e3;
+    CHECK(p.supply_after_arrest(0.0, 105e3) == 405e3);  // a step by default
+    p.hold_pressure_ramp = 0.5e-3;
+    CHECK(p.supply_after_arrest(0.0, 105e3) == rel(105e3));
+    CHECK(p.supply_after_arrest(0.25e-3, 105e3) == rel(255e3));
+    CHECK(p.supply_after_arrest(0.5e-3, 105e3) == rel(405e3));
+    CHECK(p.supply_after_arrest(2e-3, 105e3) == rel(405e3));
+    // The default hold pressure is the scene's supply: nothing changes.
+    JamProtocol same;
+    same.hold_pressure = 105e3;
+    CHECK(same.supply_after_arrest(1e-3, 105e3) == 105e3);
+}
+
 TEST_CASE("jam outcome: Table 3.2's words, and a hold that breaks is no jam") {
     auto verdict = [](bool jammed, bool hold_asked, bool held, bool released) {
         JamVerdict v;
@@ -273,6 +288,12 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
             "/protocol/hold_pressure");
     refused("hold_pressure_prescribed", {{"protocol", {{"hold_time", "1 ms"}, {"hold_pressure", "405 kPa"}}}},
             "/protocol/hold_pressure");
+    refused("ramp_without_pressure", {{"fluid", {{"flow", "pressure"}}}, {"protocol", {{"hold_time", "1 ms"}, {"hold_pressure_ramp", "0.5 ms"}}}},
+            "/protocol/hold_pressure_ramp");
+    refused("ramp_past_hold",
+            {{"fluid", {{"flow", "pressure"}}},
+             {"protocol", {{"hold_time", "1 ms"}, {"hold_pressure", "405 kPa"}, {"hold_pressure_ramp", "2 ms"}}}},
+            "/protocol/hold_pressure_ramp");
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
 }

@@ -43,6 +43,7 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, do
     return {{"held", rate < p.arrest_fraction * st.base_rate},
             {"flux_share", rate / st.base_rate},
             {"pressure_Pa", p.hold_pressure},
+            {"pressure_ramp_s", p.hold_pressure_ramp},
             {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
@@ -237,8 +238,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
         st.flux.observe(sys);
-        // From the arrest on the supply is the hold pressure (protocol/hold_pressure; the same by default).
-        const double supply = st.jammed ? p.hold_pressure : js.flow.supply_pressure;
+        // From the arrest on the supply rises to the hold pressure (protocol/hold_pressure and its
+        // ramp; the same pressure by default).
+        const double supply = st.jammed ? p.supply_after_arrest(sys.time - (st.release_start - p.hold_time),
+                                                                js.flow.supply_pressure)
+                                        : js.flow.supply_pressure;
         if (coupled)
             st.flow_state = coupled->update(sys, supply);
         else if (valve_flow)

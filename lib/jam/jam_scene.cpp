@@ -302,6 +302,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                        "prescribed flow has no supply pressure");
     if (raised && !(p.hold_time > 0))
         protocol.fail("hold_pressure", "is the supply pressure during the hold: give protocol/hold_time too");
+    const bool ramped = protocol.has("hold_pressure_ramp");
+    p.hold_pressure_ramp = protocol.quantity("hold_pressure_ramp", units::time, 0.0, Bounds::non_negative());
+    if (ramped && !raised) protocol.fail("hold_pressure_ramp", "ramps the supply to protocol/hold_pressure: give that too");
+    if (p.hold_pressure_ramp > p.hold_time)
+        protocol.fail("hold_pressure_ramp", "must not exceed protocol/hold_time: the hold should reach its pressure");
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);

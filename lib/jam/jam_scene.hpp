@@ -8,6 +8,8 @@
 // from the throat is a straight cylinder, so the seam is invisible to it).
 #include <string>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "geometry/valve.hpp"
@@ -22,6 +24,13 @@ struct JamProtocol {
     double hold_time = 0;           // s, field kept on after an arrest before the release test (does the jam hold, seal?)
     double hold_pressure = 0;       // Pa, supply pressure from the arrest on (the experiment raised it to > 405 kPa); the
                                     // scene's supply_pressure unless given
+    double hold_pressure_ramp = 0;  // s, reached linearly over this long after the arrest (0: a step)
+
+    // The supply pressure `since` seconds after the arrest was called, from the scene's `supply`.
+    double supply_after_arrest(double since, double supply) const {
+        const double share = hold_pressure_ramp > 0 ? std::clamp(since / hold_pressure_ramp, 0.0, 1.0) : 1.0;
+        return supply + share * (hold_pressure - supply);
+    }
     double release_time = 1e-3;     // s, field off after an arrest
     double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
     long observe_every = 50;        // steps between flux observations
