@@ -47,15 +47,14 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, do
             {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
-// What the run says about the valve, for the outcome's words and the jam probability.
-JamVerdict jam_verdict(const JamProtocolState& st, const JamScene& js, bool incomplete) {
-    const JamProtocol& p = js.protocol;
+// What the run says about the valve, for the outcome's words and the jam probability; `hold` is
+// hold_results() (null without a hold, or before the run has held that long).
+JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const nlohmann::json& hold, bool incomplete) {
     JamVerdict v;
     v.undetermined = st.undetermined;
     v.incomplete = incomplete;
     v.jammed = st.jammed;
     v.hold_asked = p.hold_time > 0;
-    const nlohmann::json hold = v.hold_asked ? hold_results(st, p, js.flow.supply_pressure) : nlohmann::json(nullptr);
     v.held = hold.is_object() && hold["held"].get<bool>();
     v.released = st.released;
     return v;
@@ -81,7 +80,10 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                  : st.steady  ? "steady flow"
                                  : incomplete ? "interruption"
                                               : "max_time";
-    const JamVerdict verdict = jam_verdict(st, js, incomplete);
+    const nlohmann::json hold = js.protocol.hold_time > 0
+                                    ? hold_results(st, js.protocol, js.flow.supply_pressure)
+                                    : nlohmann::json(nullptr);
+    const JamVerdict verdict = jam_verdict(st, js.protocol, hold, incomplete);
     r["outcome"] = jam_outcome_word(verdict);
     r["stops_flow"] = jam_stops_flow(verdict);
     if (st.steady)
@@ -141,8 +143,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     }
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
     if (js.protocol.hold_time > 0) {
-        r["hold"] = hold_results(st, js.protocol, js.flow.supply_pressure);
-        if (r["hold"].is_object() && !r["hold"]["held"].get<bool>())
+        r["hold"] = hold;
+        if (hold.is_object() && !hold["held"].get<bool>())
             report["warnings"].push_back(
                 "the arrest did not hold: with the field still on, the grain flux over protocol/hold_time came "
                 "back above arrest_fraction of the no-field flux, so the valve creeps at this pressure (outcome "
@@ -380,11 +382,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     out.exit_status = outcome.exit_status;
     out.jammed = st.jammed;
     out.time_to_arrest = st.arrest_time;
-    out.stops_flow = jam_stops_flow(jam_verdict(st, js, incomplete));
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
     write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),
                       incomplete);
+    out.stops_flow = out.report["results"]["stops_flow"].get<bool>();
     if (coupled) write_coupled_slices(out.report["results"], *coupled);
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
     if (!options.picture_path.empty() && s.particles.size() > 0)

@@ -293,7 +293,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                       "must lie in (0, 1): arrest is flux below this share of the no-field flux "
                       "(zero would never be reached by a noisy count)");
     p.hold_time = protocol.quantity("hold_time", units::time, p.hold_time, Bounds::non_negative());
-    // The experiment raised the supply pressure on a jammed valve (more than 405 kPa, section 3.4):
+    // The experiment raised the supply pressure on a jammed valve (more than 405 kPa, section 3.4.2):
     // from the arrest on, the supply is hold_pressure, through the same circuit.
     const bool raised = protocol.has("hold_pressure");
     p.hold_pressure = protocol.quantity("hold_pressure", units::pressure, out.flow.supply_pressure, Bounds::positive());

@@ -6,9 +6,8 @@
 // grains that leave downstream re-enter upstream at the same radius, so the throat sees a
 // constant feed at the mix's volume fraction without inflow/outflow bookkeeping (the bore far
 // from the throat is a straight cylinder, so the seam is invisible to it).
-#include <string>
-
 #include <algorithm>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -25,17 +24,17 @@ struct JamProtocol {
     double hold_pressure = 0;       // Pa, supply pressure from the arrest on (the experiment raised it to > 405 kPa); the
                                     // scene's supply_pressure unless given
     double hold_pressure_ramp = 0;  // s, reached linearly over this long after the arrest (0: a step)
+    double release_time = 1e-3;     // s, field off after an arrest
+    double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
+    long observe_every = 50;        // steps between flux observations
+    double steady_window = 0;       // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
+    double steady_tolerance = 0.15; // relative change from one window to the next that counts as steady
 
     // The supply pressure `since` seconds after the arrest was called, from the scene's `supply`.
     double supply_after_arrest(double since, double supply) const {
         const double share = hold_pressure_ramp > 0 ? std::clamp(since / hold_pressure_ramp, 0.0, 1.0) : 1.0;
         return supply + share * (hold_pressure - supply);
     }
-    double release_time = 1e-3;     // s, field off after an arrest
-    double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
-    long observe_every = 50;        // steps between flux observations
-    double steady_window = 0;       // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
-    double steady_tolerance = 0.15; // relative change from one window to the next that counts as steady
 };
 
 // The carrier flow: the source's prescribed profile, or driven by the supply pressure through
