@@ -28,13 +28,16 @@ namespace {
 // A figure that may not exist (NaN: no samples to form it) as a number or null.
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
+// When the arrest was called (the end of its low-flux window): the hold runs from here to the
+// release. Only meaningful once st.jammed.
+double arrest_called_at(const JamProtocolState& st, const JamProtocol& p) { return st.release_start - p.hold_time; }
+
 // The hold (protocol/hold_time): with the field kept on after the arrest, did the grains stay put,
 // and how much fluid does the valve pass at its end? Null until a run has held that long.
 nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, double supply_pressure) {
     const auto& h = st.flux.history();
     if (!st.jammed || h.empty() || h.back().first < st.release_start) return nullptr;
-    const double start = st.release_start - p.hold_time;  // the arrest was called here
-    const double rate = st.flux.rate_between(start, st.release_start);
+    const double rate = st.flux.rate_between(arrest_called_at(st, p), st.release_start);
     // As a share of the open flow at the pressure held (the circuit is linear: P_hold / P times
     // the open flow at the supply pressure).
     const double leak = closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window,
@@ -242,7 +245,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         st.flux.observe(sys);
         // From the arrest on the supply rises to the hold pressure (protocol/hold_pressure and its
         // ramp; the same pressure by default).
-        const double supply = st.jammed ? p.supply_after_arrest(sys.time - (st.release_start - p.hold_time),
+        const double supply = st.jammed ? p.supply_after_arrest(sys.time - arrest_called_at(st, p),
                                                                 js.flow.supply_pressure)
                                         : js.flow.supply_pressure;
         if (coupled)
