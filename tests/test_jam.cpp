@@ -180,6 +180,21 @@ TEST_CASE("steady flow: two windows of equal flux and a settled flow scale, noth
     CHECK(steady_flow(flux_history(2e-3, constant), settled, 0.0, c).steady);
 }
 
+TEST_CASE("throat flux: when an arrested bed gives way, by the arrest's own window and limit") {
+    // Arrested (no grains) until 1 ms, then 1e6 grains/s. Over a 0.2 ms window a limit of
+    // 7.5e4 /s is 15 grains: passed 10 us after the break (10 grains) it is not exceeded, at
+    // 20 us (20 grains) it is.
+    const auto breaks = [](double t) { return t <= 1e-3 ? 0.0 : 1e6 * (t - 1e-3); };
+    const ThroatFlux flux = flux_history(2e-3, breaks);
+    CHECK(flux.first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4) == rel(1.02e-3));
+    // Only observations after t0 count, and none after t1.
+    CHECK(flux.first_time_above(1.055e-3, 2e-3, 0.2e-3, 7.5e4) == rel(1.06e-3));
+    CHECK(std::isnan(flux.first_time_above(0.0, 1.015e-3, 0.2e-3, 7.5e4)));
+    // A bed that stays put never gives way; one creeping below the limit neither.
+    CHECK(std::isnan(flux_history(2e-3, [](double) { return 0.0; }).first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4)));
+    CHECK(std::isnan(flux_history(2e-3, [](double t) { return 5e4 * t; }).first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4)));
+}
+
 TEST_CASE("closed flow share: the flow scale over the arrest window against the no-field reference") {
     // Samples every 10 us, half-way between whole multiples, so that none sits on a window's edge.
     // During the 1 ms flow period the scale ramps 0 -> 2, so its mean over the reference half

@@ -37,14 +37,21 @@ double arrest_called_at(const JamProtocolState& st, const JamProtocol& p) { retu
 nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, double supply_pressure) {
     const auto& h = st.flux.history();
     if (!st.jammed || h.empty() || h.back().first < st.release_start) return nullptr;
-    const double rate = st.flux.rate_between(arrest_called_at(st, p), st.release_start);
+    const double called = arrest_called_at(st, p), limit = p.arrest_fraction * st.base_rate;
+    const double rate = st.flux.rate_between(called, st.release_start);
+    // When the bed first gave way (the arrest test failing again), and the supply then: what a
+    // ramped hold (protocol/hold_pressure_ramp) measures. It may re-form and still hold.
+    const double gave_way = st.flux.first_time_above(called, st.release_start, p.arrest_window, limit) - called;
     // As a share of the open flow at the pressure held (the circuit is linear: P_hold / P times
     // the open flow at the supply pressure).
     const double leak = closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window,
                                           p.arrest_window) /
                         (p.hold_pressure / supply_pressure);
-    return {{"held", rate < p.arrest_fraction * st.base_rate},
+    return {{"held", rate < limit},
             {"flux_share", rate / st.base_rate},
+            {"gave_way_after_s", number_or_null(gave_way)},
+            {"gave_way_at_pressure_Pa",
+             number_or_null(std::isfinite(gave_way) ? p.supply_after_arrest(gave_way, supply_pressure) : gave_way)},
             {"pressure_Pa", p.hold_pressure},
             {"pressure_ramp_s", p.hold_pressure_ramp},
             {"closed_flow_share_at_end", number_or_null(leak)}};

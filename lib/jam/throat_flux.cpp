@@ -36,6 +36,15 @@ double ThroatFlux::rate_between(double t0, double t1) const {
     return (at(t1) - at(t0)) / (t1 - t0);
 }
 
+double ThroatFlux::first_time_above(double t0, double t1, double window, double limit) const {
+    for (const auto& [t, passed] : history_) {
+        if (t <= t0) continue;
+        if (t > t1) break;
+        if (rate_between(t - window, t) > limit) return t;
+    }
+    return std::nan("");
+}
+
 double ThroatFlux::rate(double window) const {
     if (history_.size() < 2) return 0.0;
     const double t1 = history_.back().first;

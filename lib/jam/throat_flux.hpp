@@ -22,6 +22,10 @@ public:
     double rate(double window) const;
     // Grains per second between two times (linear in the recorded history).
     double rate_between(double t0, double t1) const;
+    // The first observation in (t0, t1] at which the flux over the `window` before it exceeds
+    // `limit` grains/s (the arrest's own test, run forwards: when an arrested bed gave way);
+    // NaN if none does.
+    double first_time_above(double t0, double t1, double window, double limit) const;
 
     // The whole counting state (previous positions, net count, history) for a checkpoint; JSON
     // numbers round-trip doubles exactly, so a resumed run counts as the uninterrupted one.
