@@ -187,8 +187,9 @@ TEST_CASE("throat flux: when an arrested bed gives way, by the arrest's own wind
     const auto breaks = [](double t) { return t <= 1e-3 ? 0.0 : 1e6 * (t - 1e-3); };
     const ThroatFlux flux = flux_history(2e-3, breaks);
     CHECK(flux.first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4) == rel(1.02e-3));
-    // Only observations after t0 count, and none after t1.
-    CHECK(flux.first_time_above(1.055e-3, 2e-3, 0.2e-3, 7.5e4) == rel(1.06e-3));
+    // Only grains passed after t0 count (from 1.055 ms: 20 of them by 1.08 ms), and no
+    // observation after t1.
+    CHECK(flux.first_time_above(1.055e-3, 2e-3, 0.2e-3, 7.5e4) == rel(1.08e-3));
     CHECK(std::isnan(flux.first_time_above(0.0, 1.015e-3, 0.2e-3, 7.5e4)));
     // A bed that stays put never gives way; one creeping below the limit neither.
     CHECK(std::isnan(flux_history(2e-3, [](double) { return 0.0; }).first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4)));

@@ -40,7 +40,8 @@ double ThroatFlux::first_time_above(double t0, double t1, double window, double 
     for (const auto& [t, passed] : history_) {
         if (t <= t0) continue;
         if (t > t1) break;
-        if (rate_between(t - window, t) > limit) return t;
+        const double from = std::max(t0, t - window);
+        if (rate_between(from, t) * (t - from) > limit * window) return t;
     }
     return std::nan("");
 }
