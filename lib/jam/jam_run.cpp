@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
@@ -154,11 +155,19 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
     if (js.protocol.hold_time > 0) {
         r["hold"] = hold;
-        if (hold.is_object() && !hold["held"].get<bool>())
+        if (hold.is_object() && !hold["held"].get<bool>()) {
+            // A bed can creep through the hold without any one window breaking the arrest's limit.
+            std::ostringstream when;
+            if (hold["gave_way_after_s"].is_number())
+                when << "; the bed first gave way " << hold["gave_way_after_s"].get<double>() * 1e3
+                     << " ms after the arrest, at a supply of " << hold["gave_way_at_pressure_Pa"].get<double>() / 1e3
+                     << " kPa";
             report["warnings"].push_back(
                 "the arrest did not hold: with the field still on, the grain flux over protocol/hold_time came "
-                "back above arrest_fraction of the no-field flux, so the valve creeps at this pressure (outcome "
-                "fail-no-hold; it does not count towards the jam probability)");
+                "back above arrest_fraction of the no-field flux" + when.str() +
+                ", so the valve creeps at this pressure (outcome fail-no-hold; it does not count towards the "
+                "jam probability)");
+        }
     }
 }
 
