@@ -23,9 +23,8 @@ public:
     // Grains per second between two times (linear in the recorded history).
     double rate_between(double t0, double t1) const;
     // The first observation t in (t0, t1] at which the grains passed over the `window` before it,
-    // counted from t0 on, exceed `limit` grains/s times the window: the arrest's own test run
-    // forwards from an arrest called at t0 (when the bed gave way). Counting from t0 keeps the
-    // arrest's last window, only just under the limit, from tripping it at once. NaN if none.
+    // counted from t0 on, exceed `limit` grains/s times the window: when an arrest called at t0
+    // gave way. Counting from t0 keeps the grains of the arrest's own window out. NaN if none.
     double first_time_above(double t0, double t1, double window, double limit) const;
 
     // The whole counting state (previous positions, net count, history) for a checkpoint; JSON
