@@ -180,7 +180,7 @@ TEST_CASE("steady flow: two windows of equal flux and a settled flow scale, noth
     CHECK(steady_flow(flux_history(2e-3, constant), settled, 0.0, c).steady);
 }
 
-TEST_CASE("throat flux: when an arrested bed gives way, by the arrest's own window and limit") {
+TEST_CASE("throat flux: when an arrested bed gives way, counted from the arrest over a window against a limit") {
     // Arrested (no grains) until 1 ms, then 1e6 grains/s. Over a 0.2 ms window a limit of
     // 7.5e4 /s is 15 grains: passed 10 us after the break (10 grains) it is not exceeded, at
     // 20 us (20 grains) it is.
