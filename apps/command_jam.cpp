@@ -151,10 +151,18 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         report["fidelity"]["slab_half_thickness_m"] = scene.slab_half_thickness;
         if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
-        if (!args->quiet)
-            std::cerr << "[jam] " << report["results"]["outcome"].get<std::string>() << " (jam probability "
-                      << report["results"]["jam_probability"].get<double>() << ", arrest probability "
-                      << report["results"]["arrest_probability"].get<double>() << "); report " << args->report << "\n";
+        if (!args->quiet) {
+            const nlohmann::json& res = report["results"];
+            std::cerr << "[jam] " << res["outcome"].get<std::string>() << " (jam probability "
+                      << res["jam_probability"].get<double>() << ", arrest probability "
+                      << res["arrest_probability"].get<double>() << ")";
+            // A flow the field did not stop: how much of it still got through at the end.
+            if (res["jammed"] == false && res["flux_share_last_window"].is_number())
+                std::cerr << "; grain flux over the last " << res["flux_share_with_field"]["window_s"].get<double>() * 1e3
+                          << " ms of field at " << std::lround(100 * res["flux_share_last_window"].get<double>())
+                          << " % of the no-field flux";
+            std::cerr << "; report " << args->report << "\n";
+        }
         exit_status = 0;
     });
 }

@@ -196,6 +196,28 @@ TEST_CASE("throat flux: when an arrested bed gives way, counted from the arrest 
     CHECK(std::isnan(flux_history(2e-3, [](double t) { return 5e4 * t; }).first_time_above(0.0, 2e-3, 0.2e-3, 7.5e4)));
 }
 
+TEST_CASE("throat flux: the share of the no-field flux in consecutive whole windows with the field on") {
+    // 1e6 grains/s until 1 ms, then half that; observations every 10 us and window edges half-way
+    // between them (a count at time t is the first observation at or after it). Against a base of
+    // 1e6 /s, 0.2 ms windows from 0.605 ms read 1 (0.61-0.81 ms: 200 grains), 0.975 (0.81-1.01:
+    // 190 + 5), then 0.5 twice; 1.45 ms holds no fifth whole window.
+    const auto halves = [](double t) { return t <= 1e-3 ? 1e6 * t : 1e3 + 5e5 * (t - 1e-3); };
+    const auto shares = flux_history(2e-3, halves).window_shares(0.605e-3, 1.45e-3, 0.2e-3, 1e6);
+    REQUIRE(shares.size() == 4);
+    CHECK(shares[0].first == rel(0.805e-3));
+    CHECK(shares[0].second == rel(1.0));
+    CHECK(shares[1].second == rel(0.975));
+    CHECK(shares[2].second == rel(0.5));
+    CHECK(shares[3].first == rel(1.405e-3));
+    CHECK(shares[3].second == rel(0.5));
+    // A span of exactly two windows gives two (the rounding of t0 + k w does not drop one).
+    CHECK(flux_history(2e-3, halves).window_shares(0.1e-3, 0.7e-3, 0.3e-3, 1e6).size() == 2);
+    // No reference flux, no window, or a span shorter than one window: no shares.
+    CHECK(flux_history(2e-3, halves).window_shares(0.0, 2e-3, 0.2e-3, 0.0).empty());
+    CHECK(flux_history(2e-3, halves).window_shares(0.0, 2e-3, 0.0, 1e6).empty());
+    CHECK(flux_history(2e-3, halves).window_shares(0.0, 0.15e-3, 0.2e-3, 1e6).empty());
+}
+
 TEST_CASE("closed flow share: the flow scale over the arrest window against the no-field reference") {
     // Samples every 10 us, half-way between whole multiples, so that none sits on a window's edge.
     // During the 1 ms flow period the scale ramps 0 -> 2, so its mean over the reference half

@@ -93,6 +93,7 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     REQUIRE(a["results"]["closed_flow_share"].is_number());
     CHECK(a["results"]["closed_flow_share"].get<double>() > 0.0);
     CHECK(a["seeds"][0]["closed_flow_share"] == a["results"]["closed_flow_share"]);
+    CHECK(a["seeds"][0]["flux_share_last_window"] == a["results"]["flux_share_last_window"]);
     const long total = steps[0] + steps[1] + steps[2];
 
     // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
@@ -229,6 +230,16 @@ TEST_CASE("jam: a hold keeps the field on after the arrest before the release te
         CHECK(gave_way.get<double>() <= hold * (1 + 1e-9));
         CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() == rel(40e3));
     }
+    // The flux with the field on, window by window: whole arrest windows from field-on up to the
+    // arrest's call, none from the hold (which the history also covers).
+    const json& shares = res["flux_share_with_field"];
+    const double window = shares["window_s"].get<double>(), on = res["field_switched_on_s"].get<double>();
+    const double called = on + res["time_to_arrest_s"].get<double>() + window;
+    CHECK(window == rel(0.008e-3));
+    CHECK(shares["rows"].size() == static_cast<std::size_t>(std::floor((called - on) / window * (1 + 1e-9))));
+    for (const auto& row : shares["rows"]) CHECK(row[0].get<double>() <= called * (1 + 1e-12));
+    if (!shares["rows"].empty())
+        CHECK(res["flux_share_last_window"].get<double>() == shares["rows"].back()[1].get<double>());
     // The flow scale: never above 1 before the arrest, above it after (the tiny scene's "arrest"
     // at 95 % of the no-field flux leaves the grains flowing, so 4x the pressure drives more flow).
     const double arrest_at = res["field_switched_on_s"].get<double>() + res["time_to_arrest_s"].get<double>();

@@ -46,6 +46,19 @@ double ThroatFlux::first_time_above(double t0, double t1, double window, double 
     return std::nan("");
 }
 
+std::vector<std::pair<double, double>> ThroatFlux::window_shares(double t0, double t1, double window,
+                                                                double base) const {
+    std::vector<std::pair<double, double>> shares;
+    if (!(base > 0) || !(window > 0)) return shares;
+    // Whole windows only, with a margin for the rounding of t0 + k window.
+    const long n = static_cast<long>(std::floor((t1 - t0) / window * (1 + 1e-12)));
+    for (long k = 0; k < n; ++k) {
+        const double a = t0 + k * window, b = a + window;
+        shares.push_back({b, rate_between(a, b) / base});
+    }
+    return shares;
+}
+
 double ThroatFlux::rate(double window) const {
     if (history_.size() < 2) return 0.0;
     const double t1 = history_.back().first;

@@ -26,6 +26,9 @@ public:
     // counted from t0 on, exceed `limit` grains/s times the window: when an arrest called at t0
     // gave way. Counting from t0 keeps the grains of the arrest's own window out. NaN if none.
     double first_time_above(double t0, double t1, double window, double limit) const;
+    // The flux over consecutive whole windows from t0, the last ending at or before t1, as a share
+    // of `base` grains/s: (window end, share) pairs. Empty when base is not positive.
+    std::vector<std::pair<double, double>> window_shares(double t0, double t1, double window, double base) const;
 
     // The whole counting state (previous positions, net count, history) for a checkpoint; JSON
     // numbers round-trip doubles exactly, so a resumed run counts as the uninterrupted one.
