@@ -25,23 +25,23 @@ void ThroatFlux::observe(const System& s) {
     history_.push_back({s.time, passed_});
 }
 
+double ThroatFlux::passed_at(double t) const {
+    auto it = std::lower_bound(history_.begin(), history_.end(), t,
+                               [](const auto& h, double v) { return h.first < v; });
+    return static_cast<double>(it == history_.end() ? history_.back().second : it->second);
+}
+
 double ThroatFlux::rate_between(double t0, double t1) const {
     if (history_.size() < 2 || !(t1 > t0)) return 0.0;
-    auto at = [&](double t) {
-        auto it = std::lower_bound(history_.begin(), history_.end(), t,
-                                   [](const auto& h, double v) { return h.first < v; });
-        if (it == history_.end()) return static_cast<double>(history_.back().second);
-        return static_cast<double>(it->second);
-    };
-    return (at(t1) - at(t0)) / (t1 - t0);
+    return (passed_at(t1) - passed_at(t0)) / (t1 - t0);
 }
 
 double ThroatFlux::first_time_above(double t0, double t1, double window, double limit) const {
+    if (history_.empty()) return std::nan("");
     for (const auto& [t, passed] : history_) {
         if (t <= t0) continue;
         if (t > t1) break;
-        const double from = std::max(t0, t - window);
-        if (rate_between(from, t) * (t - from) > limit * window) return t;
+        if (passed - passed_at(std::max(t0, t - window)) > limit * window) return t;
     }
     return std::nan("");
 }

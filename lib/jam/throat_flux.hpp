@@ -36,6 +36,9 @@ public:
     void restore(const nlohmann::json& state);
 
 private:
+    // The net count at the first observation at or after t (the last one past the history's end).
+    double passed_at(double t) const;
+
     double plane_;
     std::vector<double> previous_z_;
     long passed_ = 0;
