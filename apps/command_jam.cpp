@@ -123,6 +123,9 @@ void add_jam_command(CLI::App& app, int& exit_status) {
                 exit_status = outcome.exit_status;
                 std::cerr << "[jam] stopped (" << outcome.report["status"].get<std::string>() << "); partial report "
                           << args->report << "\n";
+                // Say why: a blow-up's cause and its fixes are in the report's "error".
+                if (outcome.report.contains("error"))
+                    std::cerr << "[jam] " << outcome.report["error"].get<std::string>() << "\n";
                 return;
             }
             if (k == 0) campaign["first_report"] = report;
