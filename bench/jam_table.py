@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""The jam predictor's measured table (docs/jam.md, "Where it stands") from finished reports.
+
+One row per `mrjam jam` report: case, tier, seed, grains, outcome, time to arrest, grains passed
+before it, the grain flux over the last 0.5 ms of field (for a flow the field did not stop), the
+hold, wall time and grain-steps per second. Reports written before `flux_share_with_field`
+existed get the flux from their flux history, by the same count-at-time rule as the C++
+(lib/jam/throat_flux.cpp).
+
+    python3 bench/jam_table.py out/jam_tiers/*.report.json
+"""
+import bisect
+import json
+import sys
+
+
+def passed_at(rows, t):
+    """Net grains passed at the first recorded time >= t (ThroatFlux::passed_at)."""
+    i = bisect.bisect_left([r[0] for r in rows], t)
+    return rows[min(i, len(rows) - 1)][1]
+
+
+def last_flux_share(res, span=0.5e-3):
+    """Grain flux over the last `span` of the field period, as a share of the no-field flux."""
+    rows = res.get("flux_history", {}).get("rows", [])
+    base = res.get("no_field_flux_grains_per_s") or 0
+    on = res.get("field_switched_on_s")
+    if not rows or not base or on is None:
+        return None
+    end = on + res["time_to_arrest_s"] if res.get("jammed") else rows[-1][0]
+    if end - span < on:
+        span = end - on
+    if span <= 0:
+        return None
+    return (passed_at(rows, end) - passed_at(rows, end - span)) / span / base
+
+
+def case_name(inputs):
+    field = inputs.get("field", {})
+    where = f"{field.get('flux_density', 0) * 1e3:.0f} mT" if field.get("type") == "uniform" else "map"
+    psd = inputs.get("grains", {}).get("psd", "44um")
+    valve = inputs.get("valve", {})
+    # The resolved scene gives the diameter; the constriction's name is its ratio to 44 um.
+    name = valve.get("constriction") or f"{valve.get('constriction_diameter', 0) / 44e-6:.0f}x"
+    return f"{psd} {name}, {where}"
+
+
+def hold_words(hold):
+    if not isinstance(hold, dict):
+        return "-"
+    share = f"{hold.get('flux_share', 0) * 100:.1f} %"
+    if hold.get("gave_way_after_s") is not None:
+        return f"gave way after {hold['gave_way_after_s'] * 1e3:.2f} ms ({share})"
+    if hold.get("held"):
+        return f"held ({share})"
+    # Reports older than the give-way time cannot tell a break from a creep.
+    return f"crept ({share})" if "gave_way_after_s" in hold else f"not held ({share})"
+
+
+def row(path):
+    r = json.load(open(path))
+    res = r.get("results", {})
+    share = None if res.get("jammed") else last_flux_share(res)
+    arrest = res.get("time_to_arrest_s")
+    perf = r.get("performance", {})
+    return [
+        case_name(r.get("inputs_jam", {})),
+        r.get("fidelity", {}).get("jam_tier") or r.get("fidelity", {}).get("tier", "?"),
+        str(r.get("seed", "?")),
+        f"{res.get('grains', 0):,}",
+        res.get("outcome", r.get("status", "?")),
+        f"{arrest * 1e3:.2f} ms" if arrest is not None else "-",
+        str(res.get("grains_passed_before_arrest")) if arrest is not None else "-",
+        f"{share * 100:.0f} %" if share is not None else "-",
+        hold_words(res.get("hold")),
+        f"{r.get('wall_time_s', 0):,.0f} s",
+        f"{perf.get('grain_steps_per_s', 0):.2g}",
+    ]
+
+
+def main(paths):
+    if not paths:
+        sys.exit(__doc__)
+    head = ["case", "tier", "seed", "grains", "outcome", "time to arrest", "grains passed before",
+            "flux, last 0.5 ms of field", "hold", "wall", "grain-steps/s"]
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for p in paths:
+        try:
+            if json.load(open(p)).get("mode") != "jam":
+                print(f"| {p}: not a `mrjam jam` report (a design's runs are under its directory) |" + " |" * (len(head) - 1))
+                continue
+            print("| " + " | ".join(row(p)) + " |")
+        except (OSError, ValueError, KeyError, TypeError) as e:
+            print(f"| {p}: unreadable ({e}) |" + " |" * (len(head) - 1))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# The jam predictor's table of each case at a tier (docs/jam.md, "Where it stands"): the bundled
+# Mix 2 valves at 20x, 30x and 40x in a uniform 230 mT, each with a 1 ms hold, N seeds each, JOBS
+# runs at a time (default 2, one thread each), then the table (bench/jam_table.py). A report that
+# finished before is kept, so a stopped table picks up where it left off.
+#
+#   bash bench/jam_tiers.sh [quick|standard|paper] [seeds] [build/mrjam] [out/jam_tiers]
+#
+# Quick tier: 2-8 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
+# (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it.
+set -euo pipefail
+TIER=${1:-quick}
+SEEDS=${2:-1}
+MRJAM=$(realpath "${3:-build/mrjam}")
+OUT=${4:-out/jam_tiers}
+HERE=$(cd "$(dirname "$0")/.." && pwd)
+case $TIER in quick | standard | paper) ;; *) echo "tier must be quick, standard or paper, not '$TIER'" >&2; exit 2 ;; esac
+[[ $SEEDS =~ ^[1-9][0-9]*$ ]] || { echo "seeds must be a whole number of at least 1, not '$SEEDS'" >&2; exit 2; }
+[[ -x $MRJAM ]] || { echo "no mrjam at $MRJAM: build it first (bash scripts/build.sh)" >&2; exit 2; }
+mkdir -p "$OUT"
+OUT=$(realpath "$OUT")
+
+cases=(valve_mix2_20x valve_mix2_30x valve_mix2_40x)
+[[ ${FINE:-0} == 1 ]] && cases+=(valve_10um_30x)
+
+# One job per case and seed: a copy of the example with its seed and its own output directory.
+jobs=()
+for c in "${cases[@]}"; do
+  for ((s = 1; s <= SEEDS; s++)); do
+    name="${c}_${TIER}_s$s"
+    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["seed"] = int(sys.argv[3])
+scene.setdefault("output", {})["directory"] = sys.argv[4]
+json.dump(scene, open(sys.argv[2], "w"), indent=1)
+PY
+    jobs+=("$name")
+  done
+done
+
+run_one() {
+  local name=$1
+  if [[ -f $OUT/$name.report.json ]] && python3 -c "import json,sys; sys.exit(json.load(open('$OUT/$name.report.json')).get('status') != 'complete')"; then
+    echo "[jam_tiers] $name: done before, kept" >&2
+    return 0
+  fi
+  echo "[jam_tiers] $name: running" >&2
+  "$MRJAM" jam "$OUT/$name.json" --report "$OUT/$name.report.json" --fidelity "$TIER" --threads 1 --quiet ||
+    echo "[jam_tiers] $name: stopped with exit code $? (its partial report is kept)" >&2
+}
+export -f run_one
+export MRJAM OUT TIER
+printf '%s\n' "${jobs[@]}" | xargs -P "${JOBS:-2}" -I{} bash -c 'run_one {}'
+
+reports=()
+for name in "${jobs[@]}"; do reports+=("$OUT/$name.report.json"); done
+python3 "$HERE/bench/jam_table.py" "${reports[@]}"
