@@ -2,7 +2,8 @@
 # The jam predictor's table of each case at a tier (docs/jam.md, "Where it stands"): the bundled
 # Mix 2 valves at 20x, 30x and 40x in a uniform 230 mT, each with a 1 ms hold, N seeds each, JOBS
 # runs at a time (default 2, one thread each), then the table (bench/jam_table.py). A report that
-# finished before is kept, so a stopped table picks up where it left off.
+# finished before is kept and one interrupted (Ctrl-C) is resumed from its checkpoint, so a stopped
+# table picks up where it left off.
 #
 #   bash bench/jam_tiers.sh [quick|standard|paper] [seeds] [build/mrjam] [out/jam_tiers]
 #
@@ -40,13 +41,22 @@ PY
 done
 
 run_one() {
-  local name=$1
-  if [[ -f $OUT/$name.report.json ]] && python3 -c "import json,sys; sys.exit(json.load(open('$OUT/$name.report.json')).get('status') != 'complete')"; then
+  local name=$1 report=$OUT/$1.report.json status="" checkpoint=""
+  if [[ -f $report ]]; then
+    read -r status checkpoint < <(python3 -c "import json; r = json.load(open('$report')); print(r.get('status', ''), r.get('checkpoint', ''))")
+  fi
+  if [[ $status == complete ]]; then
     echo "[jam_tiers] $name: done before, kept" >&2
     return 0
   fi
-  echo "[jam_tiers] $name: running" >&2
-  "$MRJAM" jam "$OUT/$name.json" --report "$OUT/$name.report.json" --fidelity "$TIER" --threads 1 --quiet ||
+  local args=("$OUT/$name.json" --fidelity "$TIER")
+  if [[ $status == interrupted && -f $checkpoint ]]; then  # Ctrl-C kept a checkpoint: go on from it
+    echo "[jam_tiers] $name: resuming from $checkpoint" >&2
+    args=(--resume "$checkpoint")
+  else
+    echo "[jam_tiers] $name: running" >&2
+  fi
+  "$MRJAM" jam "${args[@]}" --report "$report" --threads 1 --quiet ||
     echo "[jam_tiers] $name: stopped with exit code $? (its partial report is kept)" >&2
 }
 export -f run_one
