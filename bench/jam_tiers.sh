@@ -7,7 +7,7 @@
 #
 #   bash bench/jam_tiers.sh [quick|standard|paper] [seeds] [build/mrjam] [out/jam_tiers]
 #
-# Quick tier: 2-8 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
+# Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
 # (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it.
 set -euo pipefail
 TIER=${1:-quick}
