@@ -15,7 +15,7 @@ import sys
 
 
 def passed_at(rows, t):
-    """Net grains passed at the first recorded time >= t (as ThroatFlux::rate_between)."""
+    """Net grains passed at the first recorded time >= t (as ThroatFlux::passed_at)."""
     times = [r[0] for r in rows]
     i = bisect.bisect_left(times, t)
     return rows[min(i, len(rows) - 1)][1]
@@ -44,13 +44,18 @@ def first_steady(report, window, tolerance):
     return None
 
 
-for path in sys.argv[1:]:
-    report = json.load(open(path))
-    res = report["results"]
-    arrest = res["time_to_arrest_s"]
-    print(f"{path}: {res['outcome']}" + (f", arrest {arrest * 1e3:.2f} ms after field on" if arrest else ""))
-    for window in (0.3e-3, 0.5e-3, 1.0e-3):
-        t = first_steady(report, window, 0.15)
-        verdict = "never" if t is None else f"steady at {t * 1e3:.2f} ms of field" + (
-            " (WRONG: it arrests later)" if res["jammed"] else " (right)")
-        print(f"  W {window * 1e3:.1f} ms, tolerance 0.15: {verdict}")
+def main(paths):
+    for path in paths:
+        report = json.load(open(path))
+        res = report["results"]
+        arrest = res["time_to_arrest_s"]
+        print(f"{path}: {res['outcome']}" + (f", arrest {arrest * 1e3:.2f} ms after field on" if arrest else ""))
+        for window in (0.3e-3, 0.5e-3, 1.0e-3):
+            t = first_steady(report, window, 0.15)
+            verdict = "never" if t is None else f"steady at {t * 1e3:.2f} ms of field" + (
+                " (WRONG: it arrests later)" if res["jammed"] else " (right)")
+            print(f"  W {window * 1e3:.1f} ms, tolerance 0.15: {verdict}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

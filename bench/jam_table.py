@@ -9,15 +9,10 @@ existed get the flux from their flux history, by the same count-at-time rule as 
 
     python3 bench/jam_table.py out/jam_tiers/*.report.json
 """
-import bisect
 import json
 import sys
 
-
-def passed_at(rows, t):
-    """Net grains passed at the first recorded time >= t (ThroatFlux::passed_at)."""
-    i = bisect.bisect_left([r[0] for r in rows], t)
-    return rows[min(i, len(rows) - 1)][1]
+from jam_steady_check import passed_at  # the count-at-time rule, shared with the steady-flow check
 
 
 def last_flux_share(res, span=0.5e-3):
@@ -57,8 +52,7 @@ def hold_words(hold):
     return f"crept ({share})" if "gave_way_after_s" in hold else f"not held ({share})"
 
 
-def row(path):
-    r = json.load(open(path))
+def row(r):
     res = r.get("results", {})
     share = None if res.get("jammed") else last_flux_share(res)
     arrest = res.get("time_to_arrest_s")
@@ -87,10 +81,11 @@ def main(paths):
     print("|" + "---|" * len(head))
     for p in paths:
         try:
-            if json.load(open(p)).get("mode") != "jam":
+            report = json.load(open(p))
+            if report.get("mode") != "jam":
                 print(f"| {p}: not a `mrjam jam` report (a design's runs are under its directory) |" + " |" * (len(head) - 1))
                 continue
-            print("| " + " | ".join(row(p)) + " |")
+            print("| " + " | ".join(row(report)) + " |")
         except (OSError, ValueError, KeyError, TypeError) as e:
             print(f"| {p}: unreadable ({e}) |" + " |" * (len(head) - 1))
 

@@ -43,7 +43,7 @@ done
 run_one() {
   local name=$1 report=$OUT/$1.report.json status="" checkpoint=""
   if [[ -f $report ]]; then
-    read -r status checkpoint < <(python3 -c "import json; r = json.load(open('$report')); print(r.get('status', ''), r.get('checkpoint', ''))")
+    read -r status checkpoint < <(python3 -c "import json, sys; r = json.load(open(sys.argv[1])); print(r.get('status', ''), r.get('checkpoint', ''))" "$report")
   fi
   if [[ $status == complete ]]; then
     echo "[jam_tiers] $name: done before, kept" >&2
