@@ -248,6 +248,41 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     ++builds_;
 }
 
+void NeighborList::remove_grains(const std::vector<std::int64_t>& new_index, std::size_t kept) {
+    const std::size_t n = new_index.size();
+    if (offsets.size() != n + 1) {  // never built, or built for another count: the next step rebuilds
+        position_at_build_.clear();
+        return;
+    }
+    std::vector<std::uint32_t> new_offsets(kept + 1, 0);
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (new_index[i] < 0) continue;
+        for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const std::int64_t j = new_index[partners[k]];
+            if (j < 0) continue;
+            partners[out] = static_cast<std::uint32_t>(j);
+            image[out] = image[k];
+            history[out] = history[k];
+            touching[out] = touching[k];
+            range_sq[out] = range_sq[k];
+            ++out;
+        }
+        new_offsets[static_cast<std::size_t>(new_index[i]) + 1] = static_cast<std::uint32_t>(out);
+    }
+    offsets.swap(new_offsets);
+    partners.resize(out);
+    image.resize(out);
+    history.resize(out);
+    touching.resize(out);
+    range_sq.resize(out);
+    if (position_at_build_.size() == n) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (new_index[i] >= 0) position_at_build_[static_cast<std::size_t>(new_index[i])] = position_at_build_[i];
+        position_at_build_.resize(kept);
+    }
+}
+
 bool NeighborList::needs_rebuild(const Particles& p, const Domain& domain, int threads) const {
     if (position_at_build_.size() != p.size()) return true;
     const double limit2 = rebuild_displacement_sq(domain);

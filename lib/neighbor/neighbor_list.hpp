@@ -90,6 +90,12 @@ public:
 
     std::size_t pair_count() const { return partners.size(); }
 
+    // Drops the grains a removal took out (new_index[i]: grain i's index after the removal, or -1
+    // if it went) and renumbers the rest, keeping every surviving pair with its image and
+    // history, so the list stays valid without a rebuild. The removal keeps the grains' order,
+    // so the ownership rule (larger grain, lower index on a tie) still picks the same owner.
+    void remove_grains(const std::vector<std::int64_t>& new_index, std::size_t kept);
+
     // Checkpointing: the list, its history and the positions it was built at, so a resumed run
     // continues bit for bit.
     void save(std::ostream& out) const;

@@ -1,0 +1,31 @@
+#include "grain_removal.hpp"
+
+#include <stdexcept>
+
+namespace mrjam {
+
+std::vector<std::int64_t> surviving_index(const std::vector<char>& remove, std::size_t& kept) {
+    std::vector<std::int64_t> index(remove.size(), -1);
+    kept = 0;
+    for (std::size_t i = 0; i < remove.size(); ++i)
+        if (!remove[i]) index[i] = static_cast<std::int64_t>(kept++);
+    return index;
+}
+
+std::size_t remove_grains(System& s, const std::vector<char>& remove) {
+    const std::size_t n = s.particles.size();
+    if (remove.size() != n) throw std::logic_error("remove_grains: one flag per grain expected");
+    std::size_t kept = 0;
+    const std::vector<std::int64_t> index = surviving_index(remove, kept);
+    if (kept == n) return 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (remove[i] && s.particles.raft[i] >= 0) --s.rafts[static_cast<std::size_t>(s.particles.raft[i])].members;
+    s.particles.for_each_array([&](auto& a) { compact_by_index(a, index, kept); });
+    for (auto& w : s.walls) compact_by_index(w.history, index, kept);
+    s.contacts.remove_grains(index, kept);
+    s.magnetic.pairs.remove_grains(index, kept);
+    compact_by_index(s.magnetic.neighbour_field, index, kept);
+    return n - kept;
+}
+
+}  // namespace mrjam
