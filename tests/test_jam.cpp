@@ -523,6 +523,38 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(res["magnetic"]["mean_moment_A_m2"].get<double>() > 0.0);
 }
 
+// A finite batch (model/supply "batch"): grains reaching the outlet are taken out and none come
+// in, so the grains upstream of the throat plane fall by exactly the net number that crossed it
+// (both counted at the same observations), and the ones taken out are gone from the count.
+TEST_CASE("jam: a finite batch drains through the outlet, conserving the grains it counts") {
+    TempDir dir;
+    json scene = {{"valve", {{"constriction", "30x"}}},
+                  {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.5 mm"}, {"supply", "batch"}}},
+                  {"field", {{"flux_density", "0 mT"}}},
+                  {"protocol", {{"flow_time", "0.15 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"}}},
+                  {"output", {{"directory", dir.file("out")}}}};
+    const Result r = run_mode(dir, "jam", "batch", scene, "--fidelity quick");
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json res = json::parse(slurp(dir.file("batch_report.json")))["results"];
+    const json& b = res["batch"];
+    CAPTURE(b.dump());
+    CHECK(res["supply"].get<std::string>().find("finite batch") != std::string::npos);
+    CHECK(b["grains_left"].get<long>() == res["grains"].get<long>());  // the engine's own count at the end
+    CHECK(b["grains_drained"].get<long>() > 0);
+    CHECK(b["grains_left"].get<long>() == b["grains_at_start"].get<long>() - b["grains_drained"].get<long>());
+    CHECK(res["grains_passed_total"].get<long>() > 0);
+    CHECK(b["upstream_of_throat_centre_at_start"].get<long>() - b["upstream_of_throat_centre_at_end"].get<long>() ==
+          res["grains_passed_total"].get<long>());
+    CHECK(b["outlet_z_m"].get<double>() > 0.1e-3);  // past the throat's exit (0.1 mm)
+
+    // An outlet with no room past the throat is refused, naming the key to lengthen.
+    scene["model"]["downstream_length"] = "0.2 mm";
+    const Result short_tube = run_mode(dir, "jam", "short", scene, "--fidelity quick");
+    CHECK(short_tube.exit_code == 2);
+    CHECK(short_tube.err.find("/model/downstream_length") != std::string::npos);
+}
+
 // "Until arrest or steady flow": with protocol/steady_window the field period ends as soon as
 // two windows of flux agree. A tolerance of 0.99 calls any two windows with grains through
 // steady, so without a field the period must end after two windows, well before max_time. The

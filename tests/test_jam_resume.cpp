@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "test_support.hpp"
@@ -154,23 +155,13 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     CHECK(bad.err.find("--resume") != std::string::npos);
 }
 
-TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
-    // The tiny scene with the two-way coupled flow (its jet needs 0.35 mm past the throat centre):
-    // the slices' speeds and drag factors between observations live in the checkpoint's protocol
-    // state, so a run resumed with the field on ends as the uninterrupted one.
-    TempDir dir;
-    auto scene = [&](const std::string& out, long every) {
-        json s = tiny_scene(out, every);
-        s["fluid"] = {{"flow", "coupled"}, {"supply_pressure", "10 kPa"}};
-        s["model"]["downstream_length"] = "0.35 mm";
-        return s;
-    };
+// A run checkpointed half-way through the field period and resumed must end as the
+// uninterrupted one; `scene(out, checkpoint_every)` builds the variant. Returns the full run's report.
+json resumed_mid_field_matches(const TempDir& dir, const std::function<json(const std::string&, long)>& scene) {
     const Result full = jam(dir, "full", scene(dir.file("out_full"), 0), "");
     CAPTURE(full.err);
     REQUIRE(full.exit_code == 0);
     const json a = json::parse(slurp(dir.file("full_report.json")));
-    CHECK(a["results"]["flow_model"].get<std::string>().rfind("coupled", 0) == 0);
-    REQUIRE(a["results"]["coupled_slices"]["rows"].size() > 5);
     const std::vector<long> steps = stage_steps(a);
     REQUIRE(steps.size() == 3);
     const long every = steps[0] + steps[1] / 2;
@@ -185,6 +176,43 @@ TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
     const json b = json::parse(slurp(dir.file("resumed.json")));
     json ra = comparable(a)["results"], rb = comparable(b)["results"];
     CHECK(rb == ra);
+    return a;
+}
+
+TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
+    // The tiny scene with the two-way coupled flow (its jet needs 0.35 mm past the throat centre):
+    // the slices' speeds and drag factors between observations live in the checkpoint's protocol
+    // state, so a run resumed with the field on ends as the uninterrupted one.
+    TempDir dir;
+    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
+        json s = tiny_scene(out, every);
+        s["fluid"] = {{"flow", "coupled"}, {"supply_pressure", "10 kPa"}};
+        s["model"]["downstream_length"] = "0.35 mm";
+        return s;
+    });
+    CHECK(a["results"]["flow_model"].get<std::string>().rfind("coupled", 0) == 0);
+    CHECK(a["results"]["coupled_slices"]["rows"].size() > 5);
+}
+
+TEST_CASE("jam --resume: a finite batch resumes with its drained grains and counts") {
+    // The checkpoint holds fewer grains than the scene filled, and the batch's counts live in the
+    // protocol state: the resumed run drains on from there and ends as the uninterrupted one.
+    TempDir dir;
+    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
+        json s = tiny_scene(out, every);
+        s["model"]["downstream_length"] = "0.35 mm";
+        s["model"]["supply"] = "batch";
+        return s;
+    });
+    const json& b = a["results"]["batch"];
+    CHECK(b["grains_drained"].get<long>() > 0);
+    // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
+    // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
+    REQUIRE(a["results"]["jammed"] == true);
+    const long start = b["upstream_of_throat_centre_at_start"], at_arrest = b["upstream_of_throat_centre_at_arrest"];
+    CHECK(at_arrest <= start);
+    CHECK(at_arrest >= b["upstream_of_throat_centre_at_end"].get<long>());
+    CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
 }
 
 // protocol/hold_time keeps the field on after the arrest, then the release test runs as before.

@@ -15,6 +15,7 @@ nlohmann::json JamProtocolState::save() const {
             {"released", released},
             {"undetermined", undetermined},
             {"steady", steady},
+            {"batch", {drained, upstream_at_start, upstream_at_arrest, upstream_now}},
             {"flow_scale", flow_state.scale},
             {"flow_state",
              {flow_state.arrested_pressure, flow_state.stretch_pressure, flow_state.max_fraction,
@@ -34,6 +35,13 @@ void JamProtocolState::restore(const nlohmann::json& st) {
     released = st.at("released");
     undetermined = st.at("undetermined");
     steady = st.value("steady", false);
+    if (st.contains("batch")) {  // checkpoints written before model/supply have none
+        const auto b = st.at("batch").get<std::vector<long>>();
+        drained = b.at(0);
+        upstream_at_start = b.at(1);
+        upstream_at_arrest = b.at(2);
+        upstream_now = b.at(3);
+    }
     const auto fs = st.at("flow_state").get<std::vector<double>>();
     flow_state.scale = st.at("flow_scale").get<double>();
     flow_state.arrested_pressure = fs.at(0);

@@ -26,6 +26,9 @@ struct JamProtocolState {
     long passed_at_switch_on = 0, passed_at_arrest = 0;
     bool jammed = false, released = false, steady = false;
     bool undetermined = false;  // no grain crossed during the no-field flow: nothing to compare with
+    // A finite batch (model/supply "batch"): grains taken out at the outlet, and those upstream of
+    // the throat plane at the first observation, at the arrest and at the latest (-1 before).
+    long drained = 0, upstream_at_start = -1, upstream_at_arrest = -1, upstream_now = -1;
     AxialResistanceState flow_state;
     std::vector<FlowSample> flow_history;
     ClusterView arrest_view;

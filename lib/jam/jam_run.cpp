@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
 #include "jam/axial_resistance.hpp"
+#include "jam/batch_outlet.hpp"
 #include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/coupled_flow.hpp"
@@ -166,7 +168,9 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
         r["flow_history"] = {{"columns", {"time_s", "flow_scale", "stretch_pressure_Pa", "densest_cell_fraction"}},
                              {"rows", sh}};
     }
-    r["supply"] = "periodic along the tube axis (steady feed at the mix's volume fraction)";
+    r["supply"] = js.batch_supply ? "a finite batch (model/supply): the grains filled at the start, those reaching "
+                                    "the outlet past the throat taken out, none fed in"
+                                  : "periodic along the tube axis (steady feed at the mix's volume fraction)";
     if (js.protocol.hold_time > 0) {
         r["hold"] = hold;
         if (hold.is_object() && !hold["held"].get<bool>()) {
@@ -217,6 +221,27 @@ void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled) {
     results["coupled_slices"] = {{"columns", {"z_m", "stream_radius_m", "volume_fraction", "pressure_drop_Pa"}},
                                  {"rows", rows}};
     results["clear_stretch_pressure_Pa"] = coupled.clear_stretch_pressure();
+}
+
+// A finite batch's counts (model/supply "batch"), taken at the observations as the flux is. An
+// arrest with most of the batch gone upstream may be the feed running out rather than an arch:
+// the warning says so.
+void write_batch_results(nlohmann::json& report, const JamProtocolState& st, const BatchOutlet& outlet,
+                         std::size_t grains_left) {
+    report["results"]["batch"] = {
+        {"outlet_z_m", outlet.z()},
+        {"grains_at_start", st.drained + static_cast<long>(grains_left)},
+        {"grains_drained", st.drained},
+        {"grains_left", grains_left},
+        {"upstream_of_throat_centre_at_start", st.upstream_at_start},
+        {"upstream_of_throat_centre_at_arrest", st.jammed ? nlohmann::json(st.upstream_at_arrest) : nlohmann::json(nullptr)},
+        {"upstream_of_throat_centre_at_end", st.upstream_now}};
+    if (st.jammed && 2 * st.upstream_at_arrest < st.upstream_at_start)
+        report["warnings"].push_back(
+            "the batch had lost " + std::to_string(std::lround(100.0 * (st.upstream_at_start - st.upstream_at_arrest) /
+                                                                   std::max(1L, st.upstream_at_start))) +
+            " % of its grains upstream of the throat by the arrest: the flux may have stopped because the feed "
+            "ran out, not because an arch held; lengthen model/upstream_length");
 }
 
 }  // namespace
@@ -277,9 +302,20 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     const AxialResistance resistance(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
                                      js.valve.downstream_length, js.flow.cell_length, js.feed_fraction,
                                      js.flow.supply_pressure);
+    // A finite batch's outlet (model/supply "batch"); none for the periodic feed.
+    std::optional<BatchOutlet> outlet;
+    if (js.batch_supply) outlet.emplace(s, js.valve.downstream_length, js.valve.throat_end_z(), js.largest_diameter);
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
     auto observer = [&](const System& sys, std::size_t, long) {
         st.flux.observe(sys);
+        // Counted first, then taken out: the outlet is past the throat, so no crossing is lost.
+        // (`s` is `sys`, writable: the runner calls the observer between steps.)
+        if (outlet) {
+            st.drained += static_cast<long>(outlet->drain(s, st.flux));
+            st.upstream_now = 0;
+            for (const Vec3& x : sys.particles.position) st.upstream_now += x.z < 0;
+            if (st.upstream_at_start < 0) st.upstream_at_start = st.upstream_now;
+        }
         // From the arrest on the supply rises to the hold pressure (protocol/hold_pressure and its
         // ramp; the same pressure by default).
         const double supply = st.jammed ? p.supply_after_arrest(sys.time - arrest_called_at(st, p),
@@ -324,6 +360,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                 st.jammed = true;
                 st.arrest_time = t - p.arrest_window - p.flow_time;  // the low-flux window's start
                 st.passed_at_arrest = st.flux.passed();
+                st.upstream_at_arrest = st.upstream_now;
                 // The field stays on for the hold (protocol/hold_time; 0 by default), then goes off.
                 field->switch_off_at(t + p.hold_time);
                 st.release_start = t + p.hold_time;
@@ -428,6 +465,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                       incomplete);
     out.stops_flow = out.report["results"]["stops_flow"].get<bool>();
     if (coupled) write_coupled_slices(out.report["results"], *coupled);
+    if (outlet) write_batch_results(out.report, st, *outlet, s.particles.size());
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
     if (!options.picture_path.empty() && s.particles.size() > 0)
         out.report["outputs"]["throat_picture"] = options.picture_path;

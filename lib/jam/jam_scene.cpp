@@ -74,6 +74,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // frictionless slab let flow (docs/jam.md, "The slab's faces"); so frictionless is the default.
     const bool frictionless_slab =
         model.choice("slab_faces", {"frictionless", "frictional"}, "frictionless") == "frictionless";
+    // How the grains are fed. `periodic`: grains leaving downstream re-enter upstream, a steady
+    // feed. `batch`: the grains filled at the start are all there is; those leaving downstream
+    // are taken out and none come in, as in a DEM run whose grains were "initialized ... inside
+    // of the constrictions" (section 3.4.4) with an open outlet: the upstream end drains.
+    out.batch_supply = model.choice("supply", {"periodic", "batch"}, "periodic") == "batch";
     model.finish();
 
     // The valve: the model's lengths replace the valve's own unless the valve gives them.

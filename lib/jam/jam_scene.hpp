@@ -61,6 +61,7 @@ struct JamScene {
     double largest_diameter = 0;
     double feed_fraction = 0;       // the mix's volume fraction
     std::string field_type;         // uniform or map
+    bool batch_supply = false;      // model/supply "batch": grains leaving downstream are removed, none enter
     std::string tier;
 
     // A slab thinner than the bore cuts the valve with two plane faces; otherwise the full bore.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "grain_removal.hpp"
+
 namespace mrjam {
 
 void ThroatFlux::observe(const System& s) {
@@ -23,6 +25,10 @@ void ThroatFlux::observe(const System& s) {
         previous_z_[i] = now;
     }
     history_.push_back({s.time, passed_});
+}
+
+void ThroatFlux::remove_grains(const std::vector<std::int64_t>& new_index, std::size_t kept) {
+    compact_by_index(previous_z_, new_index, kept);
 }
 
 double ThroatFlux::passed_at(double t) const {

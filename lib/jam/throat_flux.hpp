@@ -2,6 +2,7 @@
 // Grain flux through the throat: net crossings of the plane z = plane in +z (the flow
 // direction), counted from the grains' axial positions at successive observations. In a domain
 // periodic along z a wrap is not a crossing (a displacement of half the period or more).
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -29,6 +30,10 @@ public:
     // The flux over consecutive whole windows from t0, the last ending at or before t1, as a share
     // of `base` grains/s: (window end, share) pairs. Empty when base is not positive.
     std::vector<std::pair<double, double>> window_shares(double t0, double t1, double window, double base) const;
+
+    // Follows a removal of grains (lib/grain_removal.hpp's surviving index), so the next
+    // observation compares each remaining grain with its own previous position.
+    void remove_grains(const std::vector<std::int64_t>& new_index, std::size_t kept);
 
     // The whole counting state (previous positions, net count, history) for a checkpoint; JSON
     // numbers round-trip doubles exactly, so a resumed run counts as the uninterrupted one.
