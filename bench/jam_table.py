@@ -37,7 +37,16 @@ def case_name(inputs):
     valve = inputs.get("valve", {})
     # The resolved scene gives the diameter; the constriction's name is its ratio to 44 um.
     name = valve.get("constriction") or f"{valve.get('constriction_diameter', 0) / 44e-6:.0f}x"
-    return f"{psd} {name}, {where}"
+    supply = ", batch" if inputs.get("model", {}).get("supply") == "batch" else ""
+    return f"{psd} {name}, {where}{supply}"
+
+
+def grains_words(res):
+    """The grains modelled; for a finite batch (model/supply), the batch and what was left."""
+    batch = res.get("batch")
+    if isinstance(batch, dict):
+        return f"{batch['grains_at_start']:,} ({batch['grains_left']:,} left)"
+    return f"{res.get('grains', 0):,}"
 
 
 def hold_words(hold):
@@ -61,7 +70,7 @@ def row(r):
         case_name(r.get("inputs_jam", {})),
         r.get("fidelity", {}).get("jam_tier") or r.get("fidelity", {}).get("tier", "?"),
         str(r.get("seed", "?")),
-        f"{res.get('grains', 0):,}",
+        grains_words(res),
         res.get("outcome", r.get("status", "?")),
         f"{arrest * 1e3:.2f} ms" if arrest is not None else "-",
         str(res.get("grains_passed_before_arrest")) if arrest is not None else "-",
