@@ -19,6 +19,8 @@ std::vector<std::int64_t> surviving_index(const std::vector<char>& remove, std::
 // per-grain contact histories, the contact and magnetic neighbour lists and the magnetic
 // model's per-grain field. Returns how many went.
 std::size_t remove_grains(System& s, const std::vector<char>& remove);
+// The same with the surviving index already formed (a caller that also compacts arrays of its own).
+std::size_t remove_grains(System& s, const std::vector<std::int64_t>& new_index, std::size_t kept);
 
 // The same compaction for any other per-grain array a caller keeps alongside the system.
 template <class T>

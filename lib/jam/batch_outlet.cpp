@@ -33,7 +33,7 @@ std::size_t BatchOutlet::drain(System& s, ThroatFlux& flux) const {
     std::size_t kept = 0;
     const auto index = surviving_index(out, kept);
     flux.remove_grains(index, kept);
-    return remove_grains(s, out);
+    return remove_grains(s, index, kept);
 }
 
 }  // namespace mrjam
