@@ -304,6 +304,75 @@ TEST_CASE("neighbour list: contact history follows its pair across a rebuild") {
     CHECK(carried == list.pair_count());
 }
 
+// The contact list filtered from the magnetic range (build_within) against a grid build of the
+// same list: the same pairs with the same owners and images, for 1 and 2 threads, history carried.
+void check_filtered_matches_grid(Packed& s, const std::string& label) {
+    CAPTURE(label);
+    // Reach 1.1 (R_i + R_j) + 1 um: as wide as the 70 um periodic box allows for 30 um grains.
+    NeighborList wide(NeighborList::Settings{s.skin, 1.1, false, 1e-6});
+    wide.build(s.particles, s.domain, 1);
+    CHECK(wide.pair_count() > 0);
+    CHECK(wide.history.empty());  // a list without history stores none
+    CHECK(wide.touching.empty());
+    NeighborList grid(NeighborList::Settings{s.skin, 1.0, true});
+    grid.build(s.particles, s.domain, 1);
+    const std::map<PairKey, Listed> expected = listed_pairs(grid, s.particles);
+    REQUIRE(expected.size() > 20);
+    for (const int threads : {1, 2}) {
+        CAPTURE(threads);
+        NeighborList filtered(NeighborList::Settings{s.skin, 1.0, true});
+        filtered.build_within(wide, s.particles, s.domain, threads);
+        const std::map<PairKey, Listed> got = listed_pairs(filtered, s.particles);
+        CHECK(got.size() == expected.size());
+        std::size_t same = 0;
+        for (const auto& [k, v] : got) {
+            const auto it = expected.find(k);
+            if (it != expected.end() && it->second.owner == v.owner && norm(it->second.d - v.d) == 0) ++same;
+        }
+        CHECK(same == expected.size());
+        CHECK(filtered.history.size() == filtered.pair_count());
+        // History carried across a filtered rebuild at the same positions.
+        for (std::uint32_t k = 0; k < filtered.pair_count(); ++k) {
+            filtered.history[k].tangential = {1.0 + k, 0, 0};
+            filtered.touching[k] = 1;
+        }
+        std::map<PairKey, double> tag;
+        for (std::uint32_t i = 0; i + 1 < filtered.offsets.size(); ++i)
+            for (std::uint32_t k = filtered.offsets[i]; k < filtered.offsets[i + 1]; ++k)
+                tag[key(i, filtered.partners[k])] = filtered.history[k].tangential.x;
+        filtered.build_within(wide, s.particles, s.domain, threads);
+        std::size_t carried = 0;
+        for (std::uint32_t i = 0; i + 1 < filtered.offsets.size(); ++i)
+            for (std::uint32_t k = filtered.offsets[i]; k < filtered.offsets[i + 1]; ++k)
+                carried += filtered.touching[k] == 1 && filtered.history[k].tangential.x == tag[key(i, filtered.partners[k])];
+        CHECK(carried == filtered.pair_count());
+    }
+}
+
+TEST_CASE("neighbour list: the contacts filtered from a wider list are exactly the grid build's") {
+    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 81);
+    check_filtered_matches_grid(a, "periodic xyz");
+    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 82);
+    check_filtered_matches_grid(b, "periodic xy");
+    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 83);
+    check_filtered_matches_grid(c, "closed box");
+}
+
+TEST_CASE("neighbour list: filtering from a list that cannot hold every pair is refused") {
+    Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 84);
+    NeighborList target(NeighborList::Settings{s.skin, 1.0, true});
+    NeighborList other_skin(NeighborList::Settings{2 * s.skin, 1.1, false});
+    other_skin.build(s.particles, s.domain, 1);
+    CHECK_THROWS_AS(target.build_within(other_skin, s.particles, s.domain, 1), std::logic_error);
+    NeighborList shorter(NeighborList::Settings{s.skin, 0.5, false});
+    shorter.build(s.particles, s.domain, 1);
+    CHECK_THROWS_AS(target.build_within(shorter, s.particles, s.domain, 1), std::logic_error);
+    NeighborList wide(NeighborList::Settings{s.skin, 1.1, false});
+    wide.build(s.particles, s.domain, 1);
+    s.particles.position[3].x += 0.1 * s.skin;  // the grains moved since the wide list was built
+    CHECK_THROWS_AS(target.build_within(wide, s.particles, s.domain, 1), std::logic_error);
+}
+
 TEST_CASE("neighbour list: a periodic box shorter than twice the cutoff is refused") {
     Particles p;
     p.add({1, 1, 1}, 1.0, 1000, 0);

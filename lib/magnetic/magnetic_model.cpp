@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace mrjam {
 namespace {
@@ -126,6 +127,10 @@ void initialise_moments(const MagneticModel& model, Particles& p, double time) {
     update_moments(model, p, time, false, 1);
 }
 
+bool magnet_acts(const MagneticModel& model, double time) {
+    return model.enabled && (model.any_permanent || !model.field->off_at(time));
+}
+
 void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int threads) {
     static thread_local Buffers buffers;
     static thread_local std::vector<Vec3> torque;
@@ -134,12 +139,14 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     // A magnet switched off (the jam predictor's no-field flow and release): induced moments
     // vanish at once (the self-consistent solution without an applied field is zero; the lagged
     // update would only let them decay over a few steps), and there is nothing to sum.
-    if (!model.any_permanent && model.field->off_at(time)) {
+    if (!magnet_acts(model, time)) {
         p.dipole_moment.assign(n, Vec3{});
         model.neighbour_field.assign(n, Vec3{});
         ++model.skipped_passes;
         return;
     }
+    if (model.pairs.offsets.size() != n + 1)
+        throw std::logic_error("add_magnetic_forces: the magnetic pair list was not built for these grains");
     // Moments for this step's forces.
     if (s.policy == MutualPolicy::fixed) {
         update_moments(model, p, time, false, threads);

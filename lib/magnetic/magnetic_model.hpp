@@ -58,6 +58,10 @@ struct MagneticModel {
     long skipped_passes = 0;            // steps with the field off and no permanent moment
 };
 
+// True while the magnet acts: the applied field is on, or some grain carries a permanent moment.
+// Otherwise every moment is zero and there is nothing to sum (nor a pair list to keep).
+bool magnet_acts(const MagneticModel& model, double time);
+
 // Sets every grain's moment from the applied field (and its permanent moment); call after the
 // grains and the model are set up and before the first forces.
 void initialise_moments(const MagneticModel& model, Particles& particles, double time);

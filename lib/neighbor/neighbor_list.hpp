@@ -50,7 +50,17 @@ public:
     // too short for the cutoff (the minimum image would be ambiguous).
     void build(Particles& p, const Domain& domain, int threads);
 
+    // The same list, filtered from a wider one (same skin, a reach at least as long) just built
+    // at these positions: every pair this list holds is in the wider one, with the same owner and
+    // image, so no grid search is needed. The contacts from the magnetic range, at a fraction of
+    // a grid build. Pairs come in the wider list's order, which may differ from build()'s.
+    void build_within(const NeighborList& wider, Particles& p, const Domain& domain, int threads);
+
     bool needs_rebuild(const Particles& p, const Domain& domain, int threads) const;
+    // A list left unbuilt while nothing uses it (the magnetic range with the magnet off) is marked
+    // stale: its pairs stay as they were, and it is rebuilt before it is next needed.
+    void mark_stale() { position_at_build_.clear(); }
+    bool current(std::size_t grains) const { return position_at_build_.size() == grains && offsets.size() == grains + 1; }
     // Positions at the last build and the squared displacement that forces a rebuild, for passes
     // that already touch every position and test each grain themselves. Under Lees-Edwards the
     // offset's change since the build eats into the skin (negative: rebuild now).
@@ -74,6 +84,8 @@ public:
     std::vector<std::uint32_t> offsets;
     std::vector<std::uint32_t> partners;
     std::vector<std::uint8_t> image;          // index into image_shift(): x_i - x_j + shift
+    // history and touching are kept only with Settings::keep_history (the contact list); a list
+    // without it (the magnetic range) leaves them empty.
     std::vector<ContactHistory> history;
     // 1 while the pair touches. History is zeroed when a contact starts, not every step a pair
     // is apart: a one-byte flag instead of a 48-byte write for each of the many listed pairs
@@ -110,6 +122,25 @@ private:
     double base_shift_x_[27] = {};  // x shift without the Lees-Edwards offset
     double offset_at_build_ = 0;
     long builds_ = 0;
+
+    // Build scratch, kept between builds so each build reuses the last one's memory: the
+    // previous list (its history is carried over) and one chunk of new pairs per thread.
+    struct Chunk {
+        std::vector<std::uint32_t> count;  // pairs per owner in this chunk
+        std::vector<std::uint32_t> partner;
+        std::vector<std::uint8_t> image;
+        std::vector<ContactHistory> history;
+        std::vector<std::uint8_t> touching;
+        std::vector<double> range_sq;
+    };
+    std::vector<Chunk> chunks_;
+    void set_images(const Domain& domain);
+    bool begin_build(std::size_t n, int nthreads);  // true: carry the old list's history
+    void push_pair(Chunk& ch, bool carry, std::uint32_t i, std::uint32_t j, std::uint8_t code, double range) const;
+    void finish_build(const Particles& p, int nthreads);
+    std::vector<std::uint32_t> old_offsets_, old_partners_;
+    std::vector<ContactHistory> old_history_;
+    std::vector<std::uint8_t> old_touching_;
 };
 
 }  // namespace mrjam
