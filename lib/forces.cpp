@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace mrjam {
@@ -105,12 +106,12 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
     const Particles& p = s.particles;
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
         Wall& wall = s.walls[w];
-        for (std::size_t i = begin; i < end; ++i) {
+        auto contact = [&](std::size_t i) {
             double overlap;
             ContactInput in;
             if (!wall.touch(p.position[i], p.radius[i], overlap, in.normal)) {
                 wall.history[i] = ContactHistory{};
-                continue;
+                return;
             }
             const double ri = p.radius[i];
             in.overlap = overlap;
@@ -137,6 +138,12 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
                 stats.worst_j = w;
                 stats.worst_is_wall = true;
             }
+        };
+        if (wall.near_grains_hold(p.size())) {
+            const auto& near = wall.near.index;
+            for (auto k = std::lower_bound(near.begin(), near.end(), begin); k != near.end() && *k < end; ++k) contact(*k);
+        } else {
+            for (std::size_t i = begin; i < end; ++i) contact(i);
         }
     }
 }

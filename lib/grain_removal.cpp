@@ -25,7 +25,10 @@ std::size_t remove_grains(System& s, const std::vector<std::int64_t>& index, std
     for (std::size_t i = 0; i < n; ++i)
         if (index[i] < 0 && s.particles.raft[i] >= 0) --s.rafts[static_cast<std::size_t>(s.particles.raft[i])].members;
     s.particles.for_each_array([&](auto& a) { compact_by_index(a, index, kept); });
-    for (auto& w : s.walls) compact_by_index(w.history, index, kept);
+    for (auto& w : s.walls) {
+        compact_by_index(w.history, index, kept);
+        w.near.valid = false;  // every grain is tested until the next neighbour rebuild
+    }
     s.contacts.remove_grains(index, kept);
     s.magnetic.pairs.remove_grains(index, kept);
     compact_by_index(s.magnetic.neighbour_field, index, kept);

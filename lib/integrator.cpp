@@ -104,8 +104,7 @@ std::size_t kick_pass(System& s, bool& rebuild) {
 // contact list is filtered from it: one grid search instead of two. While the magnet is off (the
 // jam predictor's no-field flow) it is not built at all, only marked stale, and the first step
 // with the magnet on rebuilds both (magnet_list_due).
-void rebuild_neighbours(System& s) {
-    s.domain.wrap_shear_offset();
+void build_pair_lists(System& s) {
     if (!magnet_acts(s.magnetic, s.time)) {
         s.contacts.build(s.particles, s.domain, s.threads);
         if (s.magnetic.enabled) s.magnetic.pairs.mark_stale();
@@ -118,6 +117,15 @@ void rebuild_neighbours(System& s) {
         s.contacts.build_within(s.magnetic.pairs, s.particles, s.domain, s.threads);
     else
         s.contacts.build(s.particles, s.domain, s.threads);
+}
+
+// With the pair lists, each wall's near grains: a grain moves less than half a skin between
+// rebuilds, so one a skin clear of a wall at the rebuild cannot reach it before the next.
+void rebuild_neighbours(System& s) {
+    s.domain.wrap_shear_offset();
+    build_pair_lists(s);
+    const double margin = s.contacts.settings().skin;
+    for (Wall& w : s.walls) w.find_near_grains(s.particles.position, s.particles.radius, margin);
 }
 
 bool magnet_list_due(const System& s) {

@@ -34,6 +34,17 @@ bool Wall::touch(const Vec3& x, double r, double& overlap, Vec3& n) const {
     return true;
 }
 
+void Wall::find_near_grains(const std::vector<Vec3>& positions, const std::vector<double>& radii, double margin) {
+    near.index.clear();
+    double overlap;
+    Vec3 n;
+    for (std::size_t i = 0; i < positions.size(); ++i)
+        if (touch(positions[i], radii[i] + margin, overlap, n)) near.index.push_back(static_cast<std::uint32_t>(i));
+    near.point = point;
+    near.grains = positions.size();
+    near.valid = true;
+}
+
 double Wall::passage_radius(double s) const {
     double narrowest = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i + 1 < profile.size(); ++i) {

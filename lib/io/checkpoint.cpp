@@ -112,6 +112,7 @@ void restore_state(const std::string& path, System& s) {
         w.point = binary::get<Vec3>(in);
         w.velocity = binary::get<Vec3>(in);
         binary::get_vector(in, w.history);
+        w.near.valid = false;  // found again at the next neighbour rebuild
     }
     const auto nrafts = binary::get<std::uint64_t>(in);
     s.rafts.clear();
