@@ -102,7 +102,6 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
 }
 
 // New moments from the applied field and the last neighbour field; returns max |dm| / max |m|.
-// New moments from the applied field and the last neighbour field; returns max |dm| / max |m|.
 double update_moments(const MagneticModel& model, Particles& p, double time, bool with_neighbours, int threads) {
     double max_change = 0, max_moment = 0;
     const std::size_t n = p.size();
