@@ -63,11 +63,12 @@ CellGrid bin(const Particles& p, const Domain& domain, double target_size) {
 // Sized at run time: a grain 40 times the mean spans more than a hundred cells.
 struct AxisRange {
     std::vector<int> cell;
-    std::vector<int> wrap;  // -1, 0, +1 periods added to the partner's coordinate; 2 = minimum image
+    std::vector<int> wrap;     // -1, 0, +1 periods added to the partner's coordinate; 2 = minimum image
+    std::vector<double> gap2;  // squared distance along the axis from the grain to the cell (0: unknown)
     int n = 0;
     void push(int c, int w) {
-        if (n == static_cast<int>(cell.size())) { cell.push_back(c); wrap.push_back(w); }
-        else { cell[n] = c; wrap[n] = w; }
+        if (n == static_cast<int>(cell.size())) { cell.push_back(c); wrap.push_back(w); gap2.push_back(0); }
+        else { cell[n] = c; wrap[n] = w; gap2[n] = 0; }
         ++n;
     }
 };
@@ -89,6 +90,22 @@ void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
             continue;
         }
         r.push(k, w);
+    }
+}
+
+// Each cell's distance along axis k from coordinate x, so the stencil can skip the cells of its
+// cube that lie wholly outside the grain's reach (about half of a stencil three cells deep). A
+// cell at the end of a closed axis also holds the grains clamped into it from beyond the box, so
+// it reaches to infinity on that side; a whole-period entry (wrap 2) is never skipped.
+void axis_gaps(const CellGrid& g, int k, double x, double box_length, bool periodic, AxisRange& r) {
+    for (int a = 0; a < r.n; ++a) {
+        if (r.wrap[a] == 2) { r.gap2[a] = 0; continue; }
+        const int c = r.cell[a];
+        const double shift = r.wrap[a] * box_length;
+        const double lo = (!periodic && c == 0) ? -INFINITY : g.lo[k] + c * g.size[k] + shift;
+        const double hi = (!periodic && c == g.count[k] - 1) ? INFINITY : g.lo[k] + (c + 1) * g.size[k] + shift;
+        const double gap = std::max({0.0, lo - x, x - hi});
+        r.gap2[a] = gap * gap;
     }
 }
 
@@ -144,6 +161,11 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
             axis_range(c[1], static_cast<int>(std::ceil(reach_len / grid.size[1])), grid.count[1], domain.periodic[1], ry);
             axis_range(c[2], static_cast<int>(std::ceil(reach_len / grid.size[2])), grid.count[2], domain.periodic[2], rz);
             const int reach_x = static_cast<int>(std::ceil(reach_len / grid.size[0]));
+            // No partner of i (none larger than i) is farther than reach_len.
+            const double reach2 = reach_len * reach_len;
+            axis_gaps(grid, 0, xi.x, len.x, domain.periodic[0], rx);
+            axis_gaps(grid, 1, xi.y, len.y, domain.periodic[1], ry);
+            axis_gaps(grid, 2, xi.z, len.z, domain.periodic[2], rz);
             for (int az = 0; az < rz.n; ++az) {
                 // Lees-Edwards: across the z boundary the partners' images sit shifted along x by
                 // the offset, so the x stencil is centred on x_i - offset (one cell wider: the
@@ -162,6 +184,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                 }
                 for (int ay = 0; ay < ry.n; ++ay)
                     for (int ax = 0; ax < xs->n; ++ax) {
+                        if (rz.gap2[az] + ry.gap2[ay] + xs->gap2[ax] >= reach2) continue;  // wholly out of reach
                         const std::uint32_t cell = grid.cell_index(xs->cell[ax], ry.cell[ay], rz.cell[az]);
                         for (std::uint32_t s = grid.start[cell]; s < grid.start[cell + 1]; ++s) {
                             const std::uint32_t j = grid.order[s];
