@@ -155,9 +155,8 @@ void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
         if (ph.drag) {
             // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f), times the flow's hindered-drag factor.
-            const Vec3 vf = s.flow->velocity(p.position[i], s.time);
-            const double factor = s.flow->drag_factor(p.position[i]);
-            f[i] -= (p.velocity[i] - vf) * (6.0 * M_PI * ph.viscosity * p.radius[i] * factor);
+            const FlowField::Drag fluid = s.flow->drag_at(p.position[i], s.time);
+            f[i] -= (p.velocity[i] - fluid.velocity) * (6.0 * M_PI * ph.viscosity * p.radius[i] * fluid.factor);
         }
         if (ph.gravity) {
             const double volume = 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];

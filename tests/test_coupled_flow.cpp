@@ -7,6 +7,7 @@
 
 #include "flow_quadrature.hpp"
 #include "fluid/brinkman_slice.hpp"
+#include "fluid/coupled_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
 
@@ -200,4 +201,40 @@ TEST_CASE("coupled flow: a ring of grains resting along the bore wall: the fluid
     CHECK(cf.field()->velocity({0.8 * v.bore_radius(), 0, z}, 0).z < 0.05 * axis);
 }
 
+}
+
+TEST_SUITE("unit") {
+// The drag pass asks for velocity and drag factor together (drag_at, locating a grain once); it
+// must give exactly what the two separate calls give, everywhere: bore, taper, throat, jet and
+// its still corner, beyond the grid's ends and outside the stream.
+TEST_CASE("coupled flow: drag_at is velocity and drag_factor, bit for bit") {
+    const ValveGeometry v = valve_20x();
+    const double cell = 50e-6;
+    CoupledValveFlow flow(v, -v.upstream_length, v.downstream_length, cell, 16, 0.2e-3);
+    // A field with no symmetry to hide a wrong index: speeds and factors varying by slice and ring.
+    std::vector<double> speed(flow.axial_speed().size()), factor(speed.size());
+    for (std::size_t m = 0; m < speed.size(); ++m) {
+        speed[m] = 0.1 + 0.01 * static_cast<double>(m % 37);
+        factor[m] = 1.0 + 0.5 * static_cast<double>(m % 11);
+    }
+    flow.set_field(speed, factor);
+    long compared = 0, off_grid = 0, still_corner = 0;
+    for (int a = 0; a < 4000; ++a) {
+        const double z = -1.2e-3 + 1.9e-3 * ((a * 0.6180339887) - std::floor(a * 0.6180339887));
+        const double r = 1.05 * v.bore_radius() * ((a * 0.7548776662) - std::floor(a * 0.7548776662));
+        const double phi = 0.37 * a;
+        const Vec3 x{r * std::cos(phi), r * std::sin(phi), z};
+        const FlowField::Drag d = flow.drag_at(x, 0.0);
+        const Vec3 u = flow.velocity(x, 0.0);
+        CHECK((d.velocity.x == u.x && d.velocity.y == u.y && d.velocity.z == u.z));
+        CHECK(d.factor == flow.drag_factor(x));
+        ++compared;
+        off_grid += z < -v.upstream_length || z >= v.downstream_length;
+        still_corner += flow.ring_at(x) == -1 && z >= -v.upstream_length && z < v.downstream_length;
+    }
+    // The points reached every kind of place.
+    CHECK(off_grid > 100);
+    CHECK(still_corner > 10);
+    MESSAGE(compared << " points, " << off_grid << " off the grid, " << still_corner << " in the jet's still corner");
+}
 }

@@ -72,8 +72,11 @@ Vec3 CoupledValveFlow::velocity(const Vec3& x, double) const {
     const double R = stream_radius(x.z);
     const double r = std::sqrt(x.x * x.x + x.y * x.y);
     if (r >= R) return {};
+    return velocity_in(x, R, r, slice_at(x.z));
+}
+
+Vec3 CoupledValveFlow::velocity_in(const Vec3& x, double R, double r, std::size_t k) const {
     const double xi = r / R;
-    const std::size_t k = slice_at(x.z);
     // The neighbour to interpolate with: the slice centre on the other side of z, in the same piece.
     std::size_t other = k;
     if (x.z < slices_[k].centre() && k > 0 && slices_[k - 1].piece == slices_[k].piece) other = k - 1;
@@ -94,6 +97,18 @@ double CoupledValveFlow::drag_factor(const Vec3& x) const {
     const std::size_t k = slice_at(x.z);
     const int j = ring_at(x);
     return factor_[k * static_cast<std::size_t>(rings_) + static_cast<std::size_t>(j < 0 ? rings_ - 1 : j)];
+}
+
+FlowField::Drag CoupledValveFlow::drag_at(const Vec3& x, double) const {
+    const double R = stream_radius(x.z);
+    const double r = std::sqrt(x.x * x.x + x.y * x.y);
+    const std::size_t k = slice_at(x.z);
+    Drag out{r >= R ? Vec3{} : velocity_in(x, R, r, k), 1.0};
+    if (x.z >= slices_.front().z_lo && x.z < slices_.back().z_hi) {  // as ring_at, with R and r at hand
+        const int j = (r >= R && R < valve_.passage_radius(x.z)) ? -1 : std::clamp(static_cast<int>(r / R * rings_), 0, rings_ - 1);
+        out.factor = factor_[k * static_cast<std::size_t>(rings_) + static_cast<std::size_t>(j < 0 ? rings_ - 1 : j)];
+    }
+    return out;
 }
 
 void CoupledValveFlow::set_field(const std::vector<double>& axial_speed, const std::vector<double>& drag_factors) {

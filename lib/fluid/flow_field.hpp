@@ -17,6 +17,13 @@ public:
     // Multiplies the Stokes drag at x: 1 for a dilute suspension; a hindered-drag model (the
     // valve's packed-bed resistance) raises it where grains pack.
     virtual double drag_factor(const Vec3&) const { return 1.0; }
+    // Both at once, for the drag pass: a flow that locates x on a grid for both (the coupled
+    // valve flow's slice and ring) overrides it to locate x once.
+    struct Drag {
+        Vec3 velocity;
+        double factor;
+    };
+    virtual Drag drag_at(const Vec3& x, double time) const { return {velocity(x, time), drag_factor(x)}; }
 };
 
 class StillFlow final : public FlowField {
