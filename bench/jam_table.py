@@ -38,7 +38,9 @@ def case_name(inputs):
     # The resolved scene gives the diameter; the constriction's name is its ratio to 44 um.
     name = valve.get("constriction") or f"{valve.get('constriction_diameter', 0) / 44e-6:.0f}x"
     supply = ", batch" if inputs.get("model", {}).get("supply") == "batch" else ""
-    return f"{psd} {name}, {where}{supply}"
+    youngs = inputs.get("material", {}).get("youngs_modulus", 1e9)
+    stiffness = f", E {youngs / 1e9:g} GPa" if youngs != 1e9 else ""  # the examples' 1 GPa goes unsaid
+    return f"{psd} {name}, {where}{supply}{stiffness}"
 
 
 def grains_words(res):

@@ -7,6 +7,9 @@
 #
 #   bash bench/jam_tiers.sh [quick|standard|paper] [seeds] [build/mrjam] [out/jam_tiers]
 #
+# YOUNGS='0.5 GPa' sets the grains' Young's modulus (the examples': 1 GPa) and names the runs
+# after it: the cost in accuracy of softer, faster grains (docs/jam.md, "Softer grains").
+#
 # Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
 # (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it.
 set -euo pipefail
@@ -29,11 +32,14 @@ jobs=()
 for c in "${cases[@]}"; do
   for ((s = 1; s <= SEEDS; s++)); do
     name="${c}_${TIER}_s$s"
-    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" <<'PY'
+    [[ -n ${YOUNGS:-} ]] && name="${c}_${TIER}_E${YOUNGS// /}_s$s"
+    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" "${YOUNGS:-}" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
 scene["seed"] = int(sys.argv[3])
 scene.setdefault("output", {})["directory"] = sys.argv[4]
+if sys.argv[5]:
+    scene.setdefault("material", {})["youngs_modulus"] = sys.argv[5]
 json.dump(scene, open(sys.argv[2], "w"), indent=1)
 PY
     jobs+=("$name")
