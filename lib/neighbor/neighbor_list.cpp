@@ -109,6 +109,20 @@ void axis_gaps(const CellGrid& g, int k, double x, double box_length, bool perio
     }
 }
 
+// The owners split into one contiguous chunk per thread (deterministic for a given thread count);
+// fill(chunk, begin, end) lists the pairs of owners begin..end-1 into the chunk.
+template <class Chunks, class Fill>
+void fill_chunks(Chunks& chunks, std::size_t n, int nthreads, Fill fill) {
+#pragma omp parallel num_threads(nthreads)
+    {
+        const int t = omp_get_thread_num();
+        const std::size_t begin = n * t / nthreads, end = n * (t + 1) / nthreads;
+        auto& ch = chunks[t];
+        ch.count.assign(end - begin, 0);
+        fill(ch, begin, end);
+    }
+}
+
 bool owns(const Particles& p, std::uint32_t i, std::uint32_t j) {
     return p.radius[j] < p.radius[i] || (p.radius[j] == p.radius[i] && j > i);
 }
@@ -143,12 +157,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     const int nthreads = std::max(1, threads);
     const bool carry = begin_build(n, nthreads);
 
-#pragma omp parallel num_threads(nthreads)
-    {
-        const int t = omp_get_thread_num();
-        const std::size_t begin = n * t / nthreads, end = n * (t + 1) / nthreads;
-        Chunk& ch = chunks_[t];
-        ch.count.assign(end - begin, 0);
+    fill_chunks(chunks_, n, nthreads, [&](Chunk& ch, std::size_t begin, std::size_t end) {
         AxisRange rx, ry, rz, rx_sliding;
         for (std::size_t ii = begin; ii < end; ++ii) {
             const auto i = static_cast<std::uint32_t>(ii);
@@ -218,8 +227,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                     }
             }
         }
-    }
-
+    });
     finish_build(p, nthreads);
 }
 
@@ -235,13 +243,7 @@ void NeighborList::build_within(const NeighborList& wider, Particles& p, const D
     set_images(domain);
     const int nthreads = std::max(1, threads);
     const bool carry = begin_build(n, nthreads);
-
-#pragma omp parallel num_threads(nthreads)
-    {
-        const int t = omp_get_thread_num();
-        const std::size_t begin = n * t / nthreads, end = n * (t + 1) / nthreads;
-        Chunk& ch = chunks_[t];
-        ch.count.assign(end - begin, 0);
+    fill_chunks(chunks_, n, nthreads, [&](Chunk& ch, std::size_t begin, std::size_t end) {
         for (std::size_t ii = begin; ii < end; ++ii) {
             const auto i = static_cast<std::uint32_t>(ii);
             const Vec3 xi = p.position[i];
@@ -255,7 +257,7 @@ void NeighborList::build_within(const NeighborList& wider, Particles& p, const D
                 ++ch.count[ii - begin];
             }
         }
-    }
+    });
     finish_build(p, nthreads);
 }
 
