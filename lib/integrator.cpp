@@ -111,9 +111,7 @@ void build_pair_lists(System& s) {
         return;
     }
     s.magnetic.pairs.build(s.particles, s.domain, s.threads);
-    const auto& wide = s.magnetic.pairs.settings();
-    const auto& near = s.contacts.settings();
-    if (wide.skin == near.skin && wide.cutoff_scale >= near.cutoff_scale && wide.cutoff_extra >= near.cutoff_extra)
+    if (s.contacts.fits_within(s.magnetic.pairs))
         s.contacts.build_within(s.magnetic.pairs, s.particles, s.domain, s.threads);
     else
         s.contacts.build(s.particles, s.domain, s.threads);

@@ -233,9 +233,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
 
 void NeighborList::build_within(const NeighborList& wider, Particles& p, const Domain& domain, int threads) {
     const std::size_t n = p.size();
-    const Settings& w = wider.settings_;
-    if (w.skin != settings_.skin || w.cutoff_scale < settings_.cutoff_scale || w.cutoff_extra < settings_.cutoff_extra ||
-        wider.offsets.size() != n + 1 ||
+    if (!fits_within(wider) || wider.offsets.size() != n + 1 ||
         !std::equal(p.position.begin(), p.position.end(), wider.position_at_build_.begin(), wider.position_at_build_.end(),
                     [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }))
         throw std::logic_error("build_within: the wider list must share the skin, reach at least as far and have "

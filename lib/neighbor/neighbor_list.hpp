@@ -55,6 +55,12 @@ public:
     // image, so no grid search is needed. The contacts from the magnetic range, at a fraction of
     // a grid build. Pairs come in the wider list's order, which may differ from build()'s.
     void build_within(const NeighborList& wider, Particles& p, const Domain& domain, int threads);
+    // True when every pair this list can hold is in `wider`: the same skin and a reach at least as
+    // long for every pair of radii.
+    bool fits_within(const NeighborList& wider) const {
+        const Settings& w = wider.settings_;
+        return w.skin == settings_.skin && w.cutoff_scale >= settings_.cutoff_scale && w.cutoff_extra >= settings_.cutoff_extra;
+    }
 
     bool needs_rebuild(const Particles& p, const Domain& domain, int threads) const;
     // A list left unbuilt while nothing uses it (the magnetic range with the magnet off) is marked
