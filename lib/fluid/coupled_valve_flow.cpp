@@ -40,10 +40,18 @@ std::size_t CoupledValveFlow::slice_at(double z) const {
 }
 
 int CoupledValveFlow::ring_at(const Vec3& x) const {
-    const double rf = stream_radius(x.z);
-    const double r = std::sqrt(x.x * x.x + x.y * x.y);
-    if (r >= rf && rf < valve_.passage_radius(x.z)) return -1;  // the jet's still corner
+    return ring_of(x.z, std::sqrt(x.x * x.x + x.y * x.y), stream_radius(x.z));
+}
+
+int CoupledValveFlow::ring_of(double z, double r, double rf) const {
+    if (r >= rf && rf < valve_.passage_radius(z)) return -1;  // the jet's still corner
     return std::clamp(static_cast<int>(r / rf * rings_), 0, rings_ - 1);
+}
+
+double CoupledValveFlow::factor_in(double z, std::size_t k, double r, double rf) const {
+    if (z < slices_.front().z_lo || z >= slices_.back().z_hi) return 1.0;
+    const int j = ring_of(z, r, rf);
+    return factor_[k * static_cast<std::size_t>(rings_) + static_cast<std::size_t>(j < 0 ? rings_ - 1 : j)];
 }
 
 double CoupledValveFlow::stream_radius(double z) const { return jet_stream_radius(valve_, jet_length_, z); }
@@ -93,22 +101,14 @@ Vec3 CoupledValveFlow::velocity_in(const Vec3& x, double R, double r, std::size_
 }
 
 double CoupledValveFlow::drag_factor(const Vec3& x) const {
-    if (x.z < slices_.front().z_lo || x.z >= slices_.back().z_hi) return 1.0;
-    const std::size_t k = slice_at(x.z);
-    const int j = ring_at(x);
-    return factor_[k * static_cast<std::size_t>(rings_) + static_cast<std::size_t>(j < 0 ? rings_ - 1 : j)];
+    return factor_in(x.z, slice_at(x.z), std::sqrt(x.x * x.x + x.y * x.y), stream_radius(x.z));
 }
 
 FlowField::Drag CoupledValveFlow::drag_at(const Vec3& x, double) const {
     const double R = stream_radius(x.z);
     const double r = std::sqrt(x.x * x.x + x.y * x.y);
     const std::size_t k = slice_at(x.z);
-    Drag out{r >= R ? Vec3{} : velocity_in(x, R, r, k), 1.0};
-    if (x.z >= slices_.front().z_lo && x.z < slices_.back().z_hi) {  // as ring_at, with R and r at hand
-        const int j = (r >= R && R < valve_.passage_radius(x.z)) ? -1 : std::clamp(static_cast<int>(r / R * rings_), 0, rings_ - 1);
-        out.factor = factor_[k * static_cast<std::size_t>(rings_) + static_cast<std::size_t>(j < 0 ? rings_ - 1 : j)];
-    }
-    return out;
+    return {r >= R ? Vec3{} : velocity_in(x, R, r, k), factor_in(x.z, k, r, R)};
 }
 
 void CoupledValveFlow::set_field(const std::vector<double>& axial_speed, const std::vector<double>& drag_factors) {

@@ -67,6 +67,10 @@ private:
     double slice_profile(std::size_t k, double xi) const;  // u of slice k at r / R = xi
     // The velocity at x given its stream radius R, distance r from the axis and slice k.
     Vec3 velocity_in(const Vec3& x, double R, double r, std::size_t k) const;
+    // The ring at axial position z, distance r from the axis, stream radius rf (as ring_at), and
+    // the drag factor there in slice k (1 off the grid).
+    int ring_of(double z, double r, double rf) const;
+    double factor_in(double z, std::size_t k, double r, double rf) const;
     double resistance_radius(double lo, double hi) const;
     ValveGeometry valve_;
     int rings_;
