@@ -57,6 +57,34 @@ std::map<PairKey, Listed> listed_pairs(const NeighborList& list, const Particles
     return out;
 }
 
+// Tags each listed pair's contact history with a value of its own and marks it touching.
+std::map<PairKey, double> tag_history(NeighborList& list) {
+    std::map<PairKey, double> tag;
+    for (std::uint32_t i = 0; i + 1 < list.offsets.size(); ++i)
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const double v = 1.0 + i + 1e-6 * list.partners[k];
+            list.history[k].tangential = {v, -v, 0};
+            list.touching[k] = 1;
+            tag[key(i, list.partners[k])] = v;
+        }
+    return tag;
+}
+
+// How many listed pairs still carry their tag and touching flag; every listed pair must have been
+// tagged (the rebuild lists the same pairs).
+std::size_t carried_tags(const NeighborList& list, const std::map<PairKey, double>& tag) {
+    std::size_t carried = 0;
+    for (std::uint32_t i = 0; i + 1 < list.offsets.size(); ++i)
+        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+            const auto it = tag.find(key(i, list.partners[k]));
+            REQUIRE(it != tag.end());
+            if (list.touching[k] == 1 && list.history[k].tangential.x == it->second &&
+                list.history[k].tangential.y == -it->second)
+                ++carried;
+        }
+    return carried;
+}
+
 struct Mismatch {
     std::size_t missing = 0;   // closer than the cutoff (by a margin) but not listed
     std::size_t extra = 0;     // listed but farther than the cutoff (by a margin)
@@ -286,21 +314,9 @@ TEST_CASE("neighbour list: contact history follows its pair across a rebuild") {
     Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.3, 71);
     NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
     list.build(s.particles, s.domain, 2);
-    std::map<PairKey, double> tag;
-    for (std::uint32_t i = 0; i + 1 < list.offsets.size(); ++i)
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            const double v = 1.0 + i + 1e-6 * list.partners[k];
-            list.history[k].tangential = {v, -v, 0};
-            tag[key(i, list.partners[k])] = v;
-        }
+    const std::map<PairKey, double> tag = tag_history(list);
     list.build(s.particles, s.domain, 1);  // same positions: the same pairs
-    std::size_t carried = 0;
-    for (std::uint32_t i = 0; i + 1 < list.offsets.size(); ++i)
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            const auto it = tag.find(key(i, list.partners[k]));
-            REQUIRE(it != tag.end());
-            if (list.history[k].tangential.x == it->second && list.history[k].tangential.y == -it->second) ++carried;
-        }
+    const std::size_t carried = carried_tags(list, tag);
     CHECK(carried == list.pair_count());
 }
 
@@ -332,19 +348,9 @@ void check_filtered_matches_grid(Packed& s, const std::string& label) {
         CHECK(same == expected.size());
         CHECK(filtered.history.size() == filtered.pair_count());
         // History carried across a filtered rebuild at the same positions.
-        for (std::uint32_t k = 0; k < filtered.pair_count(); ++k) {
-            filtered.history[k].tangential = {1.0 + k, 0, 0};
-            filtered.touching[k] = 1;
-        }
-        std::map<PairKey, double> tag;
-        for (std::uint32_t i = 0; i + 1 < filtered.offsets.size(); ++i)
-            for (std::uint32_t k = filtered.offsets[i]; k < filtered.offsets[i + 1]; ++k)
-                tag[key(i, filtered.partners[k])] = filtered.history[k].tangential.x;
+        const std::map<PairKey, double> tag = tag_history(filtered);
         filtered.build_within(wide, s.particles, s.domain, threads);
-        std::size_t carried = 0;
-        for (std::uint32_t i = 0; i + 1 < filtered.offsets.size(); ++i)
-            for (std::uint32_t k = filtered.offsets[i]; k < filtered.offsets[i + 1]; ++k)
-                carried += filtered.touching[k] == 1 && filtered.history[k].tangential.x == tag[key(i, filtered.partners[k])];
+        const std::size_t carried = carried_tags(filtered, tag);
         CHECK(carried == filtered.pair_count());
     }
 }
