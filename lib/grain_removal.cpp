@@ -32,6 +32,8 @@ std::size_t remove_grains(System& s, const std::vector<std::int64_t>& index, std
     s.contacts.remove_grains(index, kept);
     s.magnetic.pairs.remove_grains(index, kept);
     compact_by_index(s.magnetic.neighbour_field, index, kept);
+    if (!s.magnetic.held_force.empty()) compact_by_index(s.magnetic.held_force, index, kept);
+    if (!s.magnetic.held_torque.empty()) compact_by_index(s.magnetic.held_torque, index, kept);
     return n - kept;
 }
 

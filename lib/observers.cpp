@@ -50,6 +50,8 @@ nlohmann::json state_summary(const System& s) {
         j["magnetic"] = {{"policy", policy_name(s.magnetic.settings.policy)},
                          {"mean_iterations_per_step", mean_iterations(s.magnetic)},
                          {"steps_with_magnet_off", s.magnetic.skipped_passes},
+                         {"update_interval_steps", s.magnetic.settings.update_interval},
+                         {"steps_with_held_forces", s.magnetic.held_passes},
                          {"listed_magnetic_neighbours_per_grain", s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
                          {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},
                          {"applied_field", s.magnetic.field->name()}};

@@ -215,6 +215,23 @@ TEST_CASE("jam --resume: a finite batch resumes with its drained grains and coun
     CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
 }
 
+TEST_CASE("jam --resume: magnetic forces held between evaluations survive a checkpoint and a drained batch") {
+    // model/magnetic_update_interval 3: the forces of the last evaluation and their age are
+    // state, checkpointed with the grains, and compacted with them as a batch drains.
+    TempDir dir;
+    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
+        json s = tiny_scene(out, every);
+        s["model"]["downstream_length"] = "0.35 mm";
+        s["model"]["supply"] = "batch";
+        s["model"]["magnetic_update_interval"] = 3;
+        return s;
+    });
+    CHECK(a["results"]["batch"]["grains_drained"].get<long>() > 0);
+    const json& magnetic = a["results"]["magnetic"];
+    CHECK(magnetic["update_interval_steps"] == 3);
+    CHECK(magnetic["steps_with_held_forces"].get<long>() > 0);
+}
+
 // protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
 // The tiny scene arrests; with a hold the release stage must run about hold / dt steps with the
 // magnet still on before it goes off (without a hold: at most the one step that switches it), and

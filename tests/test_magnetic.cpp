@@ -17,6 +17,8 @@
 //  6. Saturation: the induced moment is capped at M_s V.
 //  7. A magnet switched off: soft grains lose their moments at once and the pass is skipped;
 //     a permanent dipole still polarises and pulls its neighbour.
+//  8. Forces held over k steps (update_interval): two grains' approach against an RK4 reference,
+//     late by less than the lag and in proportion to k - 1.
 // Set MRJAM_TEST_VERBOSE=1 to print the measured figures.
 #include <doctest/doctest.h>
 
@@ -969,6 +971,118 @@ TEST_CASE("magnetic: with the magnet switched off soft grains lose their moments
     CHECK(norm(mixed.p.dipole_moment[0]) > 0);
     CHECK(mixed.p.force[0].y > 0);  // pulled towards the permanent grain at +y
     CHECK(mixed.p.force[0].y == -mixed.p.force[1].y);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8. Held magnetic forces (update_interval k): two soft grains pulled together along the field.
+TEST_CASE("magnetic: forces held for k steps: the approach of two grains converges to the exact one as k -> 1") {
+    // Two 5 um iron grains (mu_r 1000) on the field's axis, 3 radii apart, at rest, no contact
+    // law and no fluid; fixed dipoles, so each carries m = C H0 and the pair attracts with
+    // F = 6 mu0 m^2 / (4 pi r^4). The reference is that ODE for r integrated by RK4 at a 50th of
+    // the engine's step: the time at which r reaches 2R (contact) and the speed there.
+    //
+    // What holding costs: the force applied at a step is the one evaluated at most k - 1 steps
+    // before, at a larger separation, so it is weaker than the exact one while the grains close
+    // in: they arrive late, by less than the lag (k - 1) dt, and the delay grows in proportion
+    // to k - 1 (a first-order error in the hold). With k = 1 only velocity Verlet's O(dt^2)
+    // error is left. Wrong holds fail: forces added only on evaluating steps arrive ~sqrt(k)
+    // times later, forces added twice arrive early, and forces never refreshed far too late.
+    const double R = 5e-6, density = 7800, mu_r = 1000, B = 0.2, dt = 1e-9;
+    const double m = induced_coefficient(R, mu_r) * B / kMu0;
+    const double mass = density * 4.0 / 3.0 * kPi * R * R * R;
+    const double pull = 6.0 * kMu0 / (4.0 * kPi) * m * m;  // F = pull / r^4 on each grain
+
+    // Reference: r'' = -2 F / M (relative motion of two equal masses).
+    double ref_time = 0, ref_speed = 0;
+    {
+        auto accel = [&](double r) { return -2.0 * pull / (r * r * r * r) / mass; };
+        double r = 3 * R, v = 0, t = 0;
+        const double h = dt / 50;
+        while (true) {
+            const double k1r = v, k1v = accel(r);
+            const double k2r = v + 0.5 * h * k1v, k2v = accel(r + 0.5 * h * k1r);
+            const double k3r = v + 0.5 * h * k2v, k3v = accel(r + 0.5 * h * k2r);
+            const double k4r = v + h * k3v, k4v = accel(r + h * k3r);
+            const double r_next = r + h / 6 * (k1r + 2 * k2r + 2 * k3r + k4r);
+            const double v_next = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+            if (r_next <= 2 * R) {
+                const double s = (r - 2 * R) / (r - r_next);
+                ref_time = t + s * h;
+                ref_speed = -(v + s * (v_next - v));
+                break;
+            }
+            r = r_next, v = v_next, t += h;
+        }
+    }
+
+    // The engine: separation and closing speed at contact, interpolated between steps.
+    struct Arrival {
+        double time, speed;
+        long held;
+    };
+    auto arrive = [&](int interval) {
+        System s;
+        s.domain.lo = {-1e-4, -1e-4, -1e-4};
+        s.domain.hi = {1e-4, 1e-4, 1e-4};
+        s.physics.contact = false;
+        s.contacts = NeighborList(NeighborList::Settings{0.2 * R, 1.0, true});
+        Particles& p = s.particles;
+        for (int i = 0; i < 2; ++i) {
+            const std::size_t k = p.add({(i ? 1.5 : -1.5) * R, 0, 0}, R, density, 0);
+            p.induced_coefficient[k] = induced_coefficient(R, mu_r);
+            p.saturation_moment[k] = 1e100;
+        }
+        MagneticModel& mag = s.magnetic;
+        mag.enabled = true;
+        mag.field = std::make_shared<UniformField>(Vec3{B, 0, 0}, 0.0, 0.0, 1e300);
+        mag.settings.policy = MutualPolicy::fixed;
+        mag.settings.cutoff_scale = 4;
+        mag.settings.update_interval = interval;
+        mag.pairs = NeighborList(NeighborList::Settings{0.2 * R, 4.0, false, 0.0});
+        initialise_moments(mag, p, 0.0);
+        s.dt = dt;
+        prepare(s);
+        double r = 3 * R, v = 0;
+        for (long step = 0; step < 1000000; ++step) {
+            advance(s);
+            const double r_next = p.position[1].x - p.position[0].x;
+            const double v_next = p.velocity[0].x - p.velocity[1].x;
+            if (r_next <= 2 * R) {
+                const double f = (r - 2 * R) / (r - r_next);
+                return Arrival{(s.time - dt) + f * dt, v + f * (v_next - v), mag.held_passes};
+            }
+            r = r_next, v = v_next;
+        }
+        FAIL("the grains never met");
+        return Arrival{};
+    };
+
+    const Arrival exact = arrive(1);
+    const double steps = ref_time / dt;
+    report("two grains closing 1 R: reference " + str(ref_time * 1e6) + " us (" + str(steps) + " steps), speed " +
+           str(ref_speed) + " m/s; interval 1: delay " + str((exact.time - ref_time) / dt) + " steps");
+    REQUIRE(steps > 1000);  // long enough that a lag of a few steps is a small error
+    CHECK(exact.held == 0);
+    CHECK(std::fabs(exact.time - ref_time) < 0.05 * dt);
+    CHECK(std::fabs(exact.speed - ref_speed) < 1e-4 * ref_speed);
+    double last_delay = 0;
+    int last_k = 1;
+    for (int k : {2, 4, 8}) {
+        const Arrival a = arrive(k);
+        const double delay = (a.time - exact.time) / dt;  // in steps
+        const double speed_error = (a.speed - exact.speed) / exact.speed;
+        report("interval " + std::to_string(k) + ": arrives " + str(delay) + " steps late (lag " + std::to_string(k - 1) +
+               " steps), closing speed " + str(100 * speed_error) + " %, held on " + std::to_string(a.held) + " steps");
+        CHECK(a.held > 0);
+        CHECK(delay > 0);          // weaker forces while closing in
+        CHECK(delay < k - 1);      // by less than the lag
+        CHECK(delay > last_delay);  // and more the longer the hold
+        // First order in the hold: the delay about proportional to k - 1.
+        if (last_k > 1) CHECK(delay == doctest::Approx(last_delay * (k - 1) / (last_k - 1)).epsilon(0.3));
+        CHECK(std::fabs(speed_error) < 0.01);
+        last_delay = delay;
+        last_k = k;
+    }
 }
 
 }  // TEST_SUITE

@@ -9,7 +9,10 @@
 namespace mrjam {
 namespace {
 
-constexpr std::uint64_t kMagic = 0x344b434d414a524dull;  // "MRJAMCK4" (3: the Lees-Edwards state; 4: magnetic pass counts)
+// "MRJAMCK5" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces).
+// Version 4 is still read: it held no forces, so a resumed run evaluates them at its first step.
+constexpr std::uint64_t kMagic = 0x354b434d414a524dull;
+constexpr std::uint64_t kMagicV4 = 0x344b434d414a524dull;
 
 void put_particles(std::ostream& out, const Particles& p) {
     p.for_each_array([&](const auto& a) { binary::put_vector(out, a); });
@@ -19,11 +22,14 @@ void get_particles(std::istream& in, Particles& p) {
     p.for_each_array([&](auto& a) { binary::get_vector(in, a); });
 }
 
-std::ifstream open_and_check(const std::string& path) {
+// Opens a checkpoint past its magic number; `version` is 4 or 5.
+std::ifstream open_and_check(const std::string& path, int& version) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open checkpoint " + path);
-    if (binary::get<std::uint64_t>(in) != kMagic)
+    const auto magic = binary::get<std::uint64_t>(in);
+    if (magic != kMagic && magic != kMagicV4)
         throw std::runtime_error(path + " is not an mrjam checkpoint (or was written by an incompatible version)");
+    version = magic == kMagic ? 5 : 4;
     return in;
 }
 
@@ -56,6 +62,10 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
             binary::put(out, s.magnetic.field_passes);
             binary::put(out, s.magnetic.force_passes);
             binary::put(out, s.magnetic.skipped_passes);
+            binary::put(out, s.magnetic.held_age);
+            binary::put(out, s.magnetic.held_passes);
+            binary::put_vector(out, s.magnetic.held_force);
+            binary::put_vector(out, s.magnetic.held_torque);
         }
         binary::put<std::uint64_t>(out, s.walls.size());
         for (const Wall& w : s.walls) {
@@ -75,7 +85,8 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {
-    std::ifstream in = open_and_check(path);
+    int version = 0;
+    std::ifstream in = open_and_check(path, version);
     CheckpointHeader h;
     try {
         h.resolved_scene = nlohmann::json::parse(binary::get_string(in));
@@ -88,7 +99,8 @@ CheckpointHeader read_checkpoint_header(const std::string& path) {
 }
 
 void restore_state(const std::string& path, System& s) {
-    std::ifstream in = open_and_check(path);
+    int version = 0;
+    std::ifstream in = open_and_check(path, version);
     binary::get_string(in);
     binary::get_string(in);
     binary::get<ProtocolPosition>(in);
@@ -105,6 +117,14 @@ void restore_state(const std::string& path, System& s) {
         s.magnetic.field_passes = binary::get<long>(in);
         s.magnetic.force_passes = binary::get<long>(in);
         s.magnetic.skipped_passes = binary::get<long>(in);
+        s.magnetic.held_force.clear();
+        s.magnetic.held_torque.clear();
+        if (version >= 5) {
+            s.magnetic.held_age = binary::get<int>(in);
+            s.magnetic.held_passes = binary::get<long>(in);
+            binary::get_vector(in, s.magnetic.held_force);
+            binary::get_vector(in, s.magnetic.held_torque);
+        }
     }
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");

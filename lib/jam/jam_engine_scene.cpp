@@ -110,6 +110,9 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     json contact_json = {{"model", "hertz_mindlin"}};
     if (in.material["rolling_friction"].get<double>() > 0) contact_json["rolling"] = "epsd";
     if (in.material["cohesion_energy_density"].get<double>() > 0) contact_json["cohesion"] = "sjkr";
+    json magnetic_json = {{"field", in.field}};
+    if (in.cutoff_diameters > 0) magnetic_json["cutoff"] = {{"diameters", in.cutoff_diameters}};
+    if (in.magnetic_update_interval > 1) magnetic_json["update_interval"] = in.magnetic_update_interval;
     return {{"description", "mrjam jam: generated from the jam scene"},
             {"seed", in.seed},
             {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
@@ -119,9 +122,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
             {"fluid", {{"viscosity", in.viscosity}, {"flow", flow_json}}},
             {"walls", walls},
             {"grains", batches},
-            {"magnetic", in.cutoff_diameters > 0
-                             ? json{{"field", in.field}, {"cutoff", {{"diameters", in.cutoff_diameters}}}}
-                             : json{{"field", in.field}}},
+            {"magnetic", magnetic_json},
             {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
             {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
                                     {{"name", "field_on"}, {"duration", js.protocol.max_time}},

@@ -19,6 +19,7 @@ struct JamEngineInputs {
     double viscosity = 0;                                // Pa s
     nlohmann::json field;                                // the engine's magnetic/field block
     double cutoff_diameters = 0;                         // the dipoles' cutoff; 0 leaves the engine tier's
+    long long magnetic_update_interval = 1;              // steps between magnetic evaluations
     bool frictionless_slab = true;                       // model/slab_faces
     std::string directory;                               // output/directory
     long long snapshot_every = 0, checkpoint_every = 0;  // steps; 0: none

@@ -67,6 +67,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double cutoff = model.has("magnetic_cutoff_diameters")
                               ? model.number("magnetic_cutoff_diameters", std::nullopt, Bounds::closed(1.0, 20.0))
                               : 0.0;
+    // Steps between magnetic evaluations (held in between; docs/magnetic_forces.md measures the cost).
+    const long long magnetic_interval = model.integer("magnetic_update_interval", 1, 1, 100);
     // The slab's plane faces stand for more of the same suspension beside it, moving with it: a
     // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about
     // x = 0. A frictional one holds chains pressed against it like a real wall would, and that
@@ -340,6 +342,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     engine.viscosity = viscosity;
     engine.field = field_json;
     engine.cutoff_diameters = cutoff;
+    engine.magnetic_update_interval = magnetic_interval;
     engine.frictionless_slab = frictionless_slab;
     engine.directory = directory;
     engine.snapshot_every = snapshot_every;

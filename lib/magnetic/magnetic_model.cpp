@@ -24,10 +24,11 @@ struct Buffers {
 };
 
 // One pass over the magnetic pairs. Always sums the neighbour field at every grain (into
-// model.neighbour_field); with `with_forces` also adds the pair forces (eq. 4.8) to p.force and,
+// model.neighbour_field); with `with_forces` also adds the pair forces (eq. 4.8) to `force` and,
 // when any grain is permanent, the pair torques to `torque`.
 template <bool WithForces, bool WithTorques>
-void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std::vector<Vec3>& torque) {
+void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std::vector<Vec3>& force,
+               std::vector<Vec3>& torque) {
     const std::size_t n = p.size();
     const NeighborList& list = model.pairs;
     const int nt = std::max(1, threads);
@@ -42,7 +43,7 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
         // Thread 0 accumulates straight into the shared arrays, the others into private buffers
         // summed below in thread order (deterministic for a given thread count).
         Vec3* __restrict h = model.neighbour_field.data();
-        Vec3* __restrict f = p.force.data();
+        Vec3* __restrict f = force.data();
         Vec3* __restrict t = torque.data();
         if (tid > 0) {
             b.field[tid].assign(n, Vec3{});
@@ -77,9 +78,9 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
                 hi += h_at_i;
                 h[j] += h_at_j;
                 if constexpr (WithForces) {
-                    const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, mi_d, mj_d);
-                    fi += force;
-                    f[j] -= force;
+                    const Vec3 pair_force = dipole_pair_force(mi, mj, d, inv_r2, c, mi_d, mj_d);
+                    fi += pair_force;
+                    f[j] -= pair_force;
                 }
                 if constexpr (WithTorques) {
                     ti += cross(mi, h_at_i) * kMu0;
@@ -94,7 +95,7 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
         for (int other = 1; other < nt; ++other) {
             for (std::size_t i = begin; i < end; ++i) {
                 model.neighbour_field[i] += b.field[other][i];
-                if (WithForces) p.force[i] += b.force[other][i];
+                if (WithForces) force[i] += b.force[other][i];
                 if (WithTorques) torque[i] += b.torque[other][i];
             }
         }
@@ -130,6 +131,18 @@ bool magnet_acts(const MagneticModel& model, double time) {
     return model.enabled && (model.any_permanent || !model.field->off_at(time));
 }
 
+namespace {
+
+// Adds the held magnetic forces (and torques) of the last evaluation to the grains.
+void add_held(const MagneticModel& model, Particles& p) {
+    const std::size_t n = p.size();
+    for (std::size_t i = 0; i < n; ++i) p.force[i] += model.held_force[i];
+    if (model.any_permanent)
+        for (std::size_t i = 0; i < n; ++i) p.torque[i] += model.held_torque[i];
+}
+
+}  // namespace
+
 void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int threads) {
     static thread_local Buffers buffers;
     static thread_local std::vector<Vec3> torque;
@@ -141,30 +154,49 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     if (!magnet_acts(model, time)) {
         p.dipole_moment.assign(n, Vec3{});
         model.neighbour_field.assign(n, Vec3{});
+        model.held_force.clear();
+        model.held_torque.clear();
         ++model.skipped_passes;
         return;
     }
     if (model.pairs.offsets.size() != n + 1)
         throw std::logic_error("add_magnetic_forces: the magnetic pair list was not built for these grains");
+    // Multiple time stepping: reuse the last evaluation while it is young enough (and was made
+    // for these grains: a removal or a switch-on clears it).
+    const bool holding = s.update_interval > 1;
+    if (holding && model.held_force.size() == n && model.held_age < s.update_interval) {
+        add_held(model, p);
+        ++model.held_age;
+        ++model.held_passes;
+        return;
+    }
+    // Where this evaluation's forces go: straight onto the grains, or (holding) into the held
+    // arrays first, so the following steps can add them again.
+    if (holding) {
+        model.held_force.assign(n, Vec3{});
+        model.held_torque.assign(model.any_permanent ? n : 0, Vec3{});
+    }
+    std::vector<Vec3>& force = holding ? model.held_force : p.force;
+    std::vector<Vec3>& grain_torque = holding ? model.held_torque : p.torque;
     // Moments for this step's forces.
     if (s.policy == MutualPolicy::fixed) {
         update_moments(model, p, time, false, threads);
     } else if (s.policy == MutualPolicy::iterations) {
         for (int k = 0; k < s.iterations; ++k) {
-            pair_pass<false, false>(model, p, threads, buffers, torque);
+            pair_pass<false, false>(model, p, threads, buffers, force, torque);
             update_moments(model, p, time, true, threads);
             ++model.field_passes;
         }
     } else if (s.policy == MutualPolicy::converged) {
         for (int k = 0; k < s.max_iterations; ++k) {
-            pair_pass<false, false>(model, p, threads, buffers, torque);
+            pair_pass<false, false>(model, p, threads, buffers, force, torque);
             ++model.field_passes;
             if (update_moments(model, p, time, true, threads) < s.tolerance) break;
         }
     }
     // Forces; for the lagged policy the same pass gives the neighbour field of the next moments.
-    if (model.any_permanent) pair_pass<true, true>(model, p, threads, buffers, torque);
-    else pair_pass<true, false>(model, p, threads, buffers, torque);
+    if (model.any_permanent) pair_pass<true, true>(model, p, threads, buffers, force, torque);
+    else pair_pass<true, false>(model, p, threads, buffers, force, torque);
     ++model.force_passes;
     if (s.policy == MutualPolicy::lagged) ++model.field_passes;
 
@@ -173,16 +205,20 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
             const Vec3& m = p.dipole_moment[i];
             if (model.any_permanent && norm2(p.permanent_moment[i]) > 0) {
                 // Only a permanent moment turns its grain; an induced one follows the field.
-                p.torque[i] += torque[i] + cross(m, model.field->flux_density(p.position[i], time));  // eqs. 4.7, 4.9
+                grain_torque[i] += torque[i] + cross(m, model.field->flux_density(p.position[i], time));  // eqs. 4.7, 4.9
             }
             if (!model.field->uniform()) {
                 // grad(m . B_ext) with m held fixed (eq. 4.6): F_k = sum_l m_l dB_l/dx_k.
                 const Gradient g = model.field->gradient(p.position[i], time);
-                for (int k = 0; k < 3; ++k) p.force[i][k] += m.x * g[0][k] + m.y * g[1][k] + m.z * g[2][k];
+                for (int k = 0; k < 3; ++k) force[i][k] += m.x * g[0][k] + m.y * g[1][k] + m.z * g[2][k];
             }
         }
     }
     if (s.policy == MutualPolicy::lagged) update_moments(model, p, time, true, threads);
+    if (holding) {
+        add_held(model, p);
+        model.held_age = 1;
+    }
 }
 
 const char* policy_name(MutualPolicy policy) {

@@ -359,6 +359,7 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
     st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
     st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
+    st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto cut = node.optional_object("cutoff")) {
         const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
         if (given != 1) cut->fail("diameters", "give exactly one of 'diameters', 'beyond_contact' or 'length'");
