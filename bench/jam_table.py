@@ -40,7 +40,9 @@ def case_name(inputs):
     supply = ", batch" if inputs.get("model", {}).get("supply") == "batch" else ""
     youngs = inputs.get("material", {}).get("youngs_modulus", 1e9)
     stiffness = f", E {youngs / 1e9:g} GPa" if youngs != 1e9 else ""  # the examples' 1 GPa goes unsaid
-    return f"{psd} {name}, {where}{supply}{stiffness}"
+    interval = inputs.get("model", {}).get("magnetic_update_interval", 1)
+    hold = f", magnetic forces held {interval} steps" if interval > 1 else ""
+    return f"{psd} {name}, {where}{supply}{stiffness}{hold}"
 
 
 def grains_words(res):

@@ -10,7 +10,7 @@ namespace mrjam {
 namespace {
 
 // "MRJAMCK5" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces).
-// Version 4 is still read: it held no forces, so a resumed run evaluates them at its first step.
+// Version 4 is still read: its run evaluated the magnetic forces every step, and so does its resumption.
 constexpr std::uint64_t kMagic = 0x354b434d414a524dull;
 constexpr std::uint64_t kMagicV4 = 0x344b434d414a524dull;
 
@@ -124,6 +124,10 @@ void restore_state(const std::string& path, System& s) {
             s.magnetic.held_passes = binary::get<long>(in);
             binary::get_vector(in, s.magnetic.held_force);
             binary::get_vector(in, s.magnetic.held_torque);
+        } else {
+            // Written before forces could be held: its run evaluated them every step, and a scene
+            // resolved then (no update_interval) must not pick up a later tier default mid-run.
+            s.magnetic.settings.update_interval = 1;
         }
     }
     const auto nwalls = binary::get<std::uint64_t>(in);
