@@ -194,30 +194,11 @@ TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
     CHECK(a["results"]["coupled_slices"]["rows"].size() > 5);
 }
 
-TEST_CASE("jam --resume: a finite batch resumes with its drained grains and counts") {
+TEST_CASE("jam --resume: a finite batch resumes with its drained grains, counts and held magnetic forces") {
     // The checkpoint holds fewer grains than the scene filled, and the batch's counts live in the
     // protocol state: the resumed run drains on from there and ends as the uninterrupted one.
-    TempDir dir;
-    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
-        json s = tiny_scene(out, every);
-        s["model"]["downstream_length"] = "0.35 mm";
-        s["model"]["supply"] = "batch";
-        return s;
-    });
-    const json& b = a["results"]["batch"];
-    CHECK(b["grains_drained"].get<long>() > 0);
-    // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
-    // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
-    REQUIRE(a["results"]["jammed"] == true);
-    const long start = b["upstream_of_throat_centre_at_start"], at_arrest = b["upstream_of_throat_centre_at_arrest"];
-    CHECK(at_arrest <= start);
-    CHECK(at_arrest >= b["upstream_of_throat_centre_at_end"].get<long>());
-    CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
-}
-
-TEST_CASE("jam --resume: magnetic forces held between evaluations survive a checkpoint and a drained batch") {
-    // model/magnetic_update_interval 3: the forces of the last evaluation and their age are
-    // state, checkpointed with the grains, and compacted with them as a batch drains.
+    // The magnetic forces are evaluated every 3 steps: the held forces and their age are state
+    // too, checkpointed with the grains and compacted with them as the batch drains.
     TempDir dir;
     const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
         json s = tiny_scene(out, every);
@@ -226,10 +207,17 @@ TEST_CASE("jam --resume: magnetic forces held between evaluations survive a chec
         s["model"]["magnetic_update_interval"] = 3;
         return s;
     });
-    CHECK(a["results"]["batch"]["grains_drained"].get<long>() > 0);
-    const json& magnetic = a["results"]["magnetic"];
-    CHECK(magnetic["update_interval_steps"] == 3);
-    CHECK(magnetic["steps_with_held_forces"].get<long>() > 0);
+    const json& b = a["results"]["batch"];
+    CHECK(b["grains_drained"].get<long>() > 0);
+    CHECK(a["results"]["magnetic"]["update_interval_steps"] == 3);
+    CHECK(a["results"]["magnetic"]["steps_with_held_forces"].get<long>() > 0);
+    // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
+    // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
+    REQUIRE(a["results"]["jammed"] == true);
+    const long start = b["upstream_of_throat_centre_at_start"], at_arrest = b["upstream_of_throat_centre_at_arrest"];
+    CHECK(at_arrest <= start);
+    CHECK(at_arrest >= b["upstream_of_throat_centre_at_end"].get<long>());
+    CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
 }
 
 // protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
