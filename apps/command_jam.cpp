@@ -152,6 +152,7 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));
         report["fidelity"]["jam_tier"] = scene.tier;
         report["fidelity"]["slab_half_thickness_m"] = scene.slab_half_thickness;
+        report["fidelity"]["magnetic_update_interval"] = scene.resolved["model"]["magnetic_update_interval"];
         if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
         if (!args->quiet) {

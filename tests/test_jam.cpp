@@ -508,6 +508,10 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(res["flux_history"]["rows"].size() > 2);
     CHECK(std::filesystem::exists(dir.file("jam_report_throat.png")));
     CHECK(report["fidelity"]["jam_tier"] == "quick");
+    // The quick tier holds the magnetic forces 4 steps: the engine did what the report says.
+    CHECK(report["fidelity"]["magnetic_update_interval"] == 4);
+    CHECK(res["magnetic"]["update_interval_steps"] == 4);
+    CHECK(res["magnetic"]["steps_with_held_forces"].get<long>() > 0);
     // The magnet is off during the no-field flow: the force evaluations there (one per step,
     // give or take the first before them and the last, at the switch-on time) skip the
     // magnetic pass; none does once it is on (no arrest here, so it stays on).
