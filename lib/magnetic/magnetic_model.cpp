@@ -120,6 +120,14 @@ double update_moments(const MagneticModel& model, Particles& p, double time, boo
     return max_moment > 0 ? max_change / max_moment : 0.0;
 }
 
+// Adds the held magnetic forces (and torques) of the last evaluation to the grains.
+void add_held(const MagneticModel& model, Particles& p) {
+    const std::size_t n = p.size();
+    for (std::size_t i = 0; i < n; ++i) p.force[i] += model.held_force[i];
+    if (model.any_permanent)
+        for (std::size_t i = 0; i < n; ++i) p.torque[i] += model.held_torque[i];
+}
+
 }  // namespace
 
 void initialise_moments(const MagneticModel& model, Particles& p, double time) {
@@ -130,18 +138,6 @@ void initialise_moments(const MagneticModel& model, Particles& p, double time) {
 bool magnet_acts(const MagneticModel& model, double time) {
     return model.enabled && (model.any_permanent || !model.field->off_at(time));
 }
-
-namespace {
-
-// Adds the held magnetic forces (and torques) of the last evaluation to the grains.
-void add_held(const MagneticModel& model, Particles& p) {
-    const std::size_t n = p.size();
-    for (std::size_t i = 0; i < n; ++i) p.force[i] += model.held_force[i];
-    if (model.any_permanent)
-        for (std::size_t i = 0; i < n; ++i) p.torque[i] += model.held_torque[i];
-}
-
-}  // namespace
 
 void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int threads) {
     static thread_local Buffers buffers;
