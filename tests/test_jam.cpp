@@ -303,6 +303,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
+    refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
     refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");

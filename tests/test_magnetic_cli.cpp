@@ -112,6 +112,11 @@ TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path
     }
     {
         json s = magnetic_scene();
+        s["magnetic"]["update_interval"] = 0;  // forces never evaluated
+        expect_refused(dir, "no_evaluation", s, "/magnetic/update_interval");
+    }
+    {
+        json s = magnetic_scene();
         s["magnetic"]["field"]["type"] = "dipole";
         expect_refused(dir, "bad_field_type", s, "/magnetic/field/type");
     }
