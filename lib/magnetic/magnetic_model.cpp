@@ -121,11 +121,14 @@ double update_moments(const MagneticModel& model, Particles& p, double time, boo
 }
 
 // Adds the held magnetic forces (and torques) of the last evaluation to the grains.
-void add_held(const MagneticModel& model, Particles& p) {
+void add_held(const MagneticModel& model, Particles& p, int threads) {
     const std::size_t n = p.size();
-    for (std::size_t i = 0; i < n; ++i) p.force[i] += model.held_force[i];
-    if (model.any_permanent)
-        for (std::size_t i = 0; i < n; ++i) p.torque[i] += model.held_torque[i];
+    const bool torques = model.any_permanent;
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+    for (std::size_t i = 0; i < n; ++i) {
+        p.force[i] += model.held_force[i];
+        if (torques) p.torque[i] += model.held_torque[i];
+    }
 }
 
 }  // namespace
@@ -161,7 +164,7 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     // for these grains: a removal or a switch-on clears it).
     const bool holding = s.update_interval > 1;
     if (holding && model.held_force.size() == n && model.held_age < s.update_interval) {
-        add_held(model, p);
+        add_held(model, p, threads);
         ++model.held_age;
         ++model.held_passes;
         return;
@@ -212,7 +215,7 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     }
     if (s.policy == MutualPolicy::lagged) update_moments(model, p, time, true, threads);
     if (holding) {
-        add_held(model, p);
+        add_held(model, p, threads);
         model.held_age = 1;
     }
 }
