@@ -152,7 +152,9 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));
         report["fidelity"]["jam_tier"] = scene.tier;
         report["fidelity"]["slab_half_thickness_m"] = scene.slab_half_thickness;
-        report["fidelity"]["magnetic_update_interval"] = scene.resolved["model"]["magnetic_update_interval"];
+        // What the engine did, not what the scene resolves to now: a checkpoint from before held
+        // forces resumes evaluating every step whatever the tier's default has become.
+        report["fidelity"]["magnetic_update_interval"] = report["results"]["magnetic"]["update_interval_steps"];
         if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
         if (!args->quiet) {
