@@ -88,6 +88,7 @@ CheckpointHeader read_checkpoint_header(const std::string& path) {
     int version = 0;
     std::ifstream in = open_and_check(path, version);
     CheckpointHeader h;
+    h.version = version;
     try {
         h.resolved_scene = nlohmann::json::parse(binary::get_string(in));
         h.history = nlohmann::json::parse(binary::get_string(in));

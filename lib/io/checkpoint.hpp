@@ -24,6 +24,7 @@ struct CheckpointHeader {
     nlohmann::json resolved_scene;
     nlohmann::json history;  // observations recorded so far (e.g. a flux history)
     ProtocolPosition position;
+    int version = 5;  // 4: written before magnetic forces could be held (its run evaluated them every step)
 };
 
 // Reads the scene part; restore_state then fills a system built from that scene.

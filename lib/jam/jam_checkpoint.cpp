@@ -20,6 +20,15 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
     out.stage_log = h.at("stage_log");
     out.state = h["state"].at("protocol");
     out.campaign = h["state"]["campaign"];
+    // A campaign checkpointed before magnetic forces could be held evaluated them every step, and
+    // its remaining seeds do too (restore_state enforces it); saying so in its scene keeps the
+    // report's `inputs_jam` from showing a later tier default, and new checkpoints carry it on.
+    if (out.header.version < 5) {
+        nlohmann::json& scene = out.campaign.at("scene");
+        if (!scene.contains("model")) scene["model"] = nlohmann::json::object();
+        if (scene["model"].is_object() && !scene["model"].contains("magnetic_update_interval"))
+            scene["model"]["magnetic_update_interval"] = 1;
+    }
     return out;
 }
 
