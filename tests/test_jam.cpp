@@ -8,6 +8,7 @@
 #include "jam/jam_outcome.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
+#include "scene/scene.hpp"
 #include "jam/throat_flux.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "scene/scene.hpp"
@@ -304,6 +305,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
+    refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");
     refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");
@@ -667,3 +669,11 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
 }
 
 }  // TEST_SUITE
+
+TEST_CASE("jam scene: the neighbour skin reaches the engine scene, the engine's 0.1 by default") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}};
+    CHECK(read_jam_scene(scene, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(kDefaultSkinFraction));
+    json wider = scene;
+    wider["model"] = {{"neighbour_skin", 0.25}};
+    CHECK(read_jam_scene(wider, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(0.25));
+}

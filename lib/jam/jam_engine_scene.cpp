@@ -113,6 +113,8 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     json magnetic_json = {{"field", in.field}};
     if (in.cutoff_diameters > 0) magnetic_json["cutoff"] = {{"diameters", in.cutoff_diameters}};
     if (in.magnetic_update_interval > 1) magnetic_json["update_interval"] = in.magnetic_update_interval;
+    json run_json = {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}};
+    if (in.neighbour_skin > 0) run_json["skin"] = in.neighbour_skin;
     return {{"description", "mrjam jam: generated from the jam scene"},
             {"seed", in.seed},
             {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
@@ -123,7 +125,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
             {"walls", walls},
             {"grains", batches},
             {"magnetic", magnetic_json},
-            {"run", {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}}},
+            {"run", run_json},
             {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
                                     {{"name", "field_on"}, {"duration", js.protocol.max_time}},
                                     {{"name", "release"}, {"duration", std::max(js.protocol.hold_time + js.protocol.release_time, 1e-12)}}})},

@@ -11,6 +11,7 @@
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_engine_scene.hpp"
 #include "magnetic/external_field.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
 
@@ -72,6 +73,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                               : 0.0;
     // Steps between magnetic evaluations (held in between; docs/magnetic_forces.md measures the cost).
     const long long magnetic_interval = model.integer("magnetic_update_interval", ts.magnetic_interval, 1, 100);
+    // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
+    // builds against pairs checked, speed only (docs/benchmarks.md measures it).
+    const double neighbour_skin = model.number("neighbour_skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
     // The slab's plane faces stand for more of the same suspension beside it, moving with it: a
     // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about
     // x = 0. A frictional one holds chains pressed against it like a real wall would, and that
@@ -346,6 +350,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     engine.field = field_json;
     engine.cutoff_diameters = cutoff;
     engine.magnetic_update_interval = magnetic_interval;
+    engine.neighbour_skin = neighbour_skin;
     engine.frictionless_slab = frictionless_slab;
     engine.directory = directory;
     engine.snapshot_every = snapshot_every;

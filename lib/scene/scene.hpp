@@ -14,6 +14,9 @@
 
 namespace mrjam {
 
+// The Verlet skin's default, of the mean grain diameter (`run/skin`; the jam's `model/neighbour_skin`).
+inline constexpr double kDefaultSkinFraction = 0.1;
+
 using json = nlohmann::json;
 
 // One phase of a protocol (settle, freeze the rafts, shear ...). Actions apply at its start.
@@ -52,7 +55,7 @@ struct Scene {
     double characteristic_speed = 1.0;
     double timestep_safety = 0.1;
     double requested_timestep = 0;  // 0: automatic
-    double skin_fraction = 0.1;     // Verlet skin as a fraction of the mean diameter
+    double skin_fraction = kDefaultSkinFraction;  // Verlet skin as a fraction of the mean diameter
     TimestepLimits limits;
     json resolved;                  // the scene with every default filled in, SI numbers
     json fidelity;                  // the tier and the defaults it implied

@@ -479,7 +479,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     run.has("timestep_used");
     s.max_overlap_fraction = run.number("max_overlap_fraction", 0.1, Bounds::open(0.0, 1.0));
     // Verlet skin, as a fraction of the mean grain diameter.
-    const double skin_fraction = run.number("skin", 0.1, Bounds::open_closed(0.0, 2.0));
+    const double skin_fraction = run.number("skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
 
     Rng rng(scene.seed);
     std::size_t batches = 0;
