@@ -13,7 +13,9 @@
 # (model/magnetic_update_interval), naming the runs after it (docs/jam.md, "Held magnetic forces").
 #
 # Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
-# (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it.
+# (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it. FINE=quick adds
+# examples/valve_10um_30x_quick.json instead, its speed settings stacked and ended by a steady flow
+# (about 40 minutes of a core per seed; docs/jam.md, "The 10 um mix in minutes").
 set -euo pipefail
 TIER=${1:-quick}
 SEEDS=${2:-1}
@@ -27,7 +29,12 @@ mkdir -p "$OUT"
 OUT=$(realpath "$OUT")
 
 cases=(valve_mix2_20x valve_mix2_30x valve_mix2_40x)
-[[ ${FINE:-0} == 1 ]] && cases+=(valve_10um_30x)
+case ${FINE:-0} in
+  0) ;;
+  1) cases+=(valve_10um_30x) ;;
+  quick) cases+=(valve_10um_30x_quick) ;;
+  *) echo "FINE must be 0, 1 or quick, not '$FINE'" >&2; exit 2 ;;
+esac
 
 # One job per case and seed: a copy of the example with its seed and its own output directory.
 jobs=()

@@ -353,7 +353,7 @@ TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, sh
 
 TEST_CASE("jam scene: every bundled valve example, and every design example's jam block, is accepted at every tier") {
     for (const char* name :
-         {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x", "valve_mix2_30x_table21"})
+         {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x", "valve_10um_30x_quick", "valve_mix2_30x_table21"})
         for (const std::string& tier : jam_tier_names()) {
             CAPTURE(name);
             CAPTURE(tier);
