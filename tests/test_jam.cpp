@@ -8,7 +8,6 @@
 #include "jam/jam_outcome.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
-#include "scene/scene.hpp"
 #include "jam/throat_flux.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "scene/scene.hpp"
@@ -351,6 +350,14 @@ TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, sh
     CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() == rel(0.8e-3));
 }
 
+TEST_CASE("jam scene: the neighbour skin reaches the engine scene, the engine's 0.1 by default") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}};
+    CHECK(read_jam_scene(scene, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(kDefaultSkinFraction));
+    json wider = scene;
+    wider["model"] = {{"neighbour_skin", 0.25}};
+    CHECK(read_jam_scene(wider, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(0.25));
+}
+
 TEST_CASE("jam scene: every bundled valve example, and every design example's jam block, is accepted at every tier") {
     for (const char* name :
          {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x", "valve_10um_30x_quick", "valve_mix2_30x_table21"})
@@ -669,11 +676,3 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
 }
 
 }  // TEST_SUITE
-
-TEST_CASE("jam scene: the neighbour skin reaches the engine scene, the engine's 0.1 by default") {
-    const json scene = {{"valve", {{"constriction", "30x"}}}};
-    CHECK(read_jam_scene(scene, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(kDefaultSkinFraction));
-    json wider = scene;
-    wider["model"] = {{"neighbour_skin", 0.25}};
-    CHECK(read_jam_scene(wider, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(0.25));
-}
