@@ -1,7 +1,7 @@
 // `mrjam bench flow`: what the valve's carrier-flow models cost per grain. The engine asks the
 // flow for a velocity and a drag factor once per grain per step, and the coupled flow's
 // controller bins all grains and solves its slices at every observation (50 steps by default),
-// so the figures are ns per velocity + drag-factor call and ns per grain per update, at points
+// so the figures are ns per drag_at call (velocity and drag factor) and ns per grain per update, at points
 // spread uniformly through the quick tier's 30x stretch (docs/benchmarks.md quotes them).
 #include <chrono>
 #include <cstdio>
@@ -40,12 +40,15 @@ std::vector<Vec3> passage_points(const ValveGeometry& v, long n, double half_sla
     return out;
 }
 
-// ns per (velocity + drag factor) call, best of three passes.
+// ns per drag_at call (the velocity and the drag factor, as the drag pass asks), best of three passes.
 double time_calls(const FlowField& f, const std::vector<Vec3>& points) {
     double best = 1e300, sink = 0;
     for (int pass = 0; pass < 3; ++pass) {
         const auto t0 = std::chrono::steady_clock::now();
-        for (const Vec3& p : points) sink += f.velocity(p, 0).z * f.drag_factor(p);
+        for (const Vec3& p : points) {
+            const FlowField::Drag d = f.drag_at(p, 0);
+            sink += d.velocity.z * d.factor;
+        }
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         best = std::min(best, s);
     }
@@ -73,7 +76,7 @@ void add_flow_bench_command(CLI::App& bench, int& exit_status) {
             const ValveFlow f(v, 0.273, profile, 0.224e-3);
             const double ns = time_calls(f, points);
             out["ns_per_call"][valve_flow_profile_name(profile)] = ns;
-            std::printf("bench flow: %-10s %.1f ns per velocity + drag-factor call\n",
+            std::printf("bench flow: %-10s %.1f ns per drag_at call (velocity and drag factor)\n",
                         valve_flow_profile_name(profile).c_str(), ns);
         }
         CoupledFlowSettings c;
@@ -108,7 +111,7 @@ void add_flow_bench_command(CLI::App& bench, int& exit_status) {
         out["ns_per_call"]["coupled"] = call;
         out["coupled_update_ns_per_grain"] = update;
         out["coupled_cells"] = coupled.cells();
-        std::printf("bench flow: %-10s %.1f ns per velocity + drag-factor call; update %.1f ns per grain "
+        std::printf("bench flow: %-10s %.1f ns per drag_at call; update %.1f ns per grain "
                     "(%zu slice rings), every observation\n",
                     "coupled", call, update, coupled.cells());
         if (!args->json_out.empty()) write_json_file(args->json_out, out);

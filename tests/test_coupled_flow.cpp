@@ -3,6 +3,7 @@
 // fluid, or resting in the step's corner.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "flow_quadrature.hpp"
@@ -236,5 +237,31 @@ TEST_CASE("coupled flow: drag_at is velocity and drag_factor, bit for bit") {
     CHECK(off_grid > 100);
     CHECK(still_corner > 10);
     MESSAGE(compared << " points, " << off_grid << " off the grid, " << still_corner << " in the jet's still corner");
+}
+
+// slice_at starts from a table and walks to the slice; it must name the slice a binary search
+// over the slices names, for every z: each slice's ends and their neighbouring doubles (where a
+// rounded bin index would start on the wrong side), the grid's ends, far outside it, and NaN.
+TEST_CASE("coupled flow: slice_at is the binary search's slice, at every slice end") {
+    const ValveGeometry v = valve_20x();
+    for (double cell : {50e-6, 88e-6, 23e-6}) {
+        CoupledValveFlow flow(v, -v.upstream_length, v.downstream_length, cell, 8, 0.2e-3);
+        const auto& slices = flow.slices();
+        auto searched = [&](double z) {
+            const auto it = std::upper_bound(slices.begin(), slices.end(), z,
+                                             [](double value, const FlowSlice& s) { return value < s.z_hi; });
+            return it == slices.end() ? slices.size() - 1 : static_cast<std::size_t>(it - slices.begin());
+        };
+        std::vector<double> zs{-1.0, 1.0, -1e300, 1e300, std::nan("")};
+        for (const FlowSlice& s : slices)
+            for (double end : {s.z_lo, s.z_hi, s.centre()})
+                for (double z : {std::nextafter(end, -1.0), end, std::nextafter(end, 1.0)}) zs.push_back(z);
+        for (int a = 0; a < 20000; ++a)
+            zs.push_back(-1.3e-3 + 2.0e-3 * ((a * 0.6180339887) - std::floor(a * 0.6180339887)));
+        long wrong = 0;
+        for (double z : zs) wrong += flow.slice_at(z) != searched(z);
+        CHECK(wrong == 0);
+        CHECK(slices.size() > 10);
+    }
 }
 }

@@ -31,12 +31,36 @@ CoupledValveFlow::CoupledValveFlow(const ValveGeometry& valve, double z_lo, doub
     }
     speed_.assign(slices_.size() * static_cast<std::size_t>(rings_), 0.0);
     factor_.assign(speed_.size(), 1.0);
+    build_slice_table();
 }
 
+void CoupledValveFlow::build_slice_table() {
+    const double lo = slices_.front().z_lo, hi = slices_.back().z_hi;
+    double narrowest = hi - lo;
+    for (const FlowSlice& s : slices_) narrowest = std::min(narrowest, s.z_hi - s.z_lo);
+    const auto bins = static_cast<std::size_t>(std::ceil((hi - lo) / narrowest));
+    table_origin_ = lo;
+    table_inverse_width_ = static_cast<double>(bins) / (hi - lo);
+    table_slice_.resize(bins);
+    std::size_t k = 0;
+    for (std::size_t b = 0; b < bins; ++b) {
+        const double centre = lo + (static_cast<double>(b) + 0.5) / table_inverse_width_;
+        while (k + 1 < slices_.size() && !(centre < slices_[k].z_hi)) ++k;
+        table_slice_[b] = static_cast<std::uint32_t>(k);
+    }
+}
+
+// The first slice whose upper end lies above z (the last if none; the first below the grid), as
+// a binary search would find it: the table's guess is walked to the exact slice, so a rounding
+// in the bin index never changes the answer.
 std::size_t CoupledValveFlow::slice_at(double z) const {
-    const auto it = std::upper_bound(slices_.begin(), slices_.end(), z,
-                                     [](double v, const FlowSlice& s) { return v < s.z_hi; });
-    return it == slices_.end() ? slices_.size() - 1 : static_cast<std::size_t>(it - slices_.begin());
+    const double t = (z - table_origin_) * table_inverse_width_;
+    const std::size_t last_bin = table_slice_.size() - 1;
+    const std::size_t bin = t > 0 ? (t < static_cast<double>(last_bin) ? static_cast<std::size_t>(t) : last_bin) : 0;
+    std::size_t k = table_slice_[bin];
+    while (k > 0 && z < slices_[k - 1].z_hi) --k;
+    while (k + 1 < slices_.size() && !(z < slices_[k].z_hi)) ++k;
+    return k;
 }
 
 int CoupledValveFlow::ring_at(const Vec3& x) const {

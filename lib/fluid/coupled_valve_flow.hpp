@@ -18,6 +18,7 @@
 // only the stream, r < R_f(z), and the fluid in the step's corner outside it is at rest. (The
 // slices' lubrication balance has no inertia, so it cannot make the jet itself: without it the
 // throat's plug would stop dead at the exit and pile the grains there.)
+#include <cstdint>
 #include <vector>
 
 #include "fluid/flow_field.hpp"
@@ -72,10 +73,17 @@ private:
     int ring_of(double z, double r, double rf) const;
     double factor_in(double z, std::size_t k, double r, double rf) const;
     double resistance_radius(double lo, double hi) const;
+    void build_slice_table();
     ValveGeometry valve_;
     int rings_;
     double jet_length_;
     std::vector<FlowSlice> slices_;
+    // slice_at's starting guess: equal bins over the grid, each naming the slice at its centre.
+    // No bin is wider than the narrowest slice, so the exact answer is at most a step or two
+    // away; a binary search over the slices for every grain and step cost ~3 % of the 10 um
+    // valve's step (docs/benchmarks.md, "Carrier flow").
+    double table_origin_ = 0, table_inverse_width_ = 0;
+    std::vector<std::uint32_t> table_slice_;
     std::vector<double> speed_, factor_;
 };
 
