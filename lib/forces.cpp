@@ -148,14 +148,26 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
     }
 }
 
+// What the drag pass does with the carrier flow this step (PhysicsSettings::flow_lookup_interval).
+enum class FlowLookup { fresh, fresh_and_hold, held };
+
+FlowLookup flow_lookup_this_step(const System& s) {
+    if (!s.physics.drag || s.physics.flow_lookup_interval <= 1) return FlowLookup::fresh;
+    const HeldFlow& h = s.held_flow;
+    if (h.at.size() == s.particles.size() && h.age < s.physics.flow_lookup_interval) return FlowLookup::held;
+    return FlowLookup::fresh_and_hold;
+}
+
 // Single-grain terms: drag against the carrier flow, gravity with buoyancy.
-void body_forces(System& s, Vec3* f, std::size_t begin, std::size_t end) {
+void body_forces(System& s, FlowLookup lookup, Vec3* f, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     const PhysicsSettings& ph = s.physics;
+    FlowField::Drag* held = s.held_flow.at.data();
     for (std::size_t i = begin; i < end; ++i) {
         if (ph.drag) {
             // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f), times the flow's hindered-drag factor.
-            const FlowField::Drag fluid = s.flow->drag_at(p.position[i], s.time);
+            const FlowField::Drag fluid = lookup == FlowLookup::held ? held[i] : s.flow->drag_at(p.position[i], s.time);
+            if (lookup == FlowLookup::fresh_and_hold) held[i] = fluid;
             f[i] -= (p.velocity[i] - fluid.velocity) * (6.0 * M_PI * ph.viscosity * p.radius[i] * fluid.factor);
         }
         if (ph.gravity) {
@@ -197,6 +209,9 @@ void compute_all(System& s, bool zero_first) {
     b.raft_force.assign(nthreads, std::vector<Vec3>(s.rafts.size()));
     std::vector<std::vector<Vec3>> wall_force(nthreads, std::vector<Vec3>(s.walls.size()));
     for (auto& w : s.walls) w.history.resize(n);
+    const FlowLookup lookup = flow_lookup_this_step(s);
+    if (lookup == FlowLookup::fresh_and_hold) s.held_flow.at.resize(n);
+    else if (lookup == FlowLookup::fresh) s.held_flow.at.clear();
 
 #pragma omp parallel num_threads(nthreads)
     {
@@ -221,7 +236,7 @@ void compute_all(System& s, bool zero_first) {
             else grain_contacts<Rolling, Cohesion, false>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
             wall_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], wall_force[tid], b.raft_force[tid], begin, end);
         }
-        if (s.physics.drag || s.physics.gravity) body_forces(s, f, begin, end);
+        if (s.physics.drag || s.physics.gravity) body_forces(s, lookup, f, begin, end);
 #pragma omp barrier
         // Reduce the private buffers, each thread summing its own slice of grains in thread order.
         for (int other = 1; other < nthreads; ++other) {
@@ -234,6 +249,12 @@ void compute_all(System& s, bool zero_first) {
         }
     }
 
+    if (lookup == FlowLookup::held) {
+        ++s.held_flow.age;
+        ++s.held_flow.held_steps;
+    } else if (lookup == FlowLookup::fresh_and_hold) {
+        s.held_flow.age = 1;
+    }
     if (s.magnetic.enabled) add_magnetic_forces(s.magnetic, p, s.time, nthreads);
 
     s.contact_stats = ContactStats{};

@@ -34,6 +34,7 @@ std::size_t remove_grains(System& s, const std::vector<std::int64_t>& index, std
     compact_by_index(s.magnetic.neighbour_field, index, kept);
     if (!s.magnetic.held_force.empty()) compact_by_index(s.magnetic.held_force, index, kept);
     if (!s.magnetic.held_torque.empty()) compact_by_index(s.magnetic.held_torque, index, kept);
+    if (!s.held_flow.at.empty()) compact_by_index(s.held_flow.at, index, kept);
     return n - kept;
 }
 

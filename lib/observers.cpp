@@ -44,6 +44,9 @@ nlohmann::json state_summary(const System& s) {
     j["max_overlap_ratio"] = s.contact_stats.max_overlap_ratio;
     j["neighbour_builds"] = s.contacts.builds();
     j["neighbour_pairs"] = s.contacts.pair_count();
+    if (s.physics.drag)
+        j["carrier_flow"] = {{"lookup_interval_steps", s.physics.flow_lookup_interval},
+                             {"steps_with_held_lookups", s.held_flow.held_steps}};
     if (s.magnetic.enabled) {
         double moment = 0;
         for (const Vec3& m : s.particles.dipole_moment) moment += norm(m);

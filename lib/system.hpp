@@ -27,6 +27,12 @@ struct PhysicsSettings {
     double pair_damping = 0;
     double viscosity = 0;      // Pa s
     double fluid_density = 0;  // kg/m3, for buoyancy under gravity
+    // Steps between carrier-flow lookups at the grains (scene: fluid/lookup_interval): the fluid's
+    // velocity and hindered-drag factor at each grain are looked up every `flow_lookup_interval`
+    // steps and held in between; the drag itself uses the grain's velocity of every step. A grain
+    // moves a few nanometres a step against flow features microns wide, while the lookup (grid
+    // search, interpolation) was a tenth of the 10 um valve's step (docs/benchmarks.md). 1: every step.
+    int flow_lookup_interval = 1;
     bool gravity = false;
     Vec3 gravity_acceleration{};
 };
@@ -48,6 +54,14 @@ struct ContactStats {
     bool worst_is_wall = false;
 };
 
+// The carrier flow at each grain from the last lookup, reused while it is younger than
+// PhysicsSettings::flow_lookup_interval steps (that lookup's step included). Empty when none is held.
+struct HeldFlow {
+    std::vector<FlowField::Drag> at;
+    int age = 0;
+    long held_steps = 0;  // force evaluations that reused held lookups
+};
+
 struct System {
     Domain domain;
     Particles particles;
@@ -60,6 +74,7 @@ struct System {
     NeighborList contacts;
     ContactStats contact_stats;
     MagneticModel magnetic;  // off unless the scene has a "magnetic" block
+    HeldFlow held_flow;
 
     double time = 0;
     long step = 0;

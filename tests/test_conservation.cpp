@@ -324,6 +324,56 @@ TEST_CASE("drag: a grain at rest in a Couette flow reaches the local fluid veloc
     CHECK(std::fabs(v.z) < 1e-15);
 }
 
+// A flow that stretches along z, u = (0, 0, a z): a grain carried by it meets a faster fluid at
+// every step, so a held lookup (fluid/lookup_interval) is always stale.
+struct StretchingFlow final : FlowField {
+    double rate;
+    explicit StretchingFlow(double a) : rate(a) {}
+    Vec3 velocity(const Vec3& x, double) const override { return {0, 0, rate * x.z}; }
+    std::string name() const override { return "stretching"; }
+};
+
+// Held carrier-flow lookups: the grain's drag uses the fluid velocity at its position of up to
+// K - 1 steps before, so it follows the every-step grain a few steps late: z_K(t) ~ z_1(t - tau)
+// with tau <= (K - 1) dt, and |z_K - z_1| <= (K - 1) dt max|v| (the lag is a shift in time along
+// the same trajectory, which the flow's growth does not amplify). It must lag (else nothing was
+// held) and stay inside that bound; and every K-th force evaluation looks the flow up afresh.
+TEST_CASE("drag: held carrier-flow lookups lag the every-step grain by at most K - 1 steps") {
+    const double mu = 0.05;
+    auto run = [&](int interval, double& vmax, long& evaluations) {
+        Scene scene = build(single_grain_in_fluid({{"viscosity", mu}, {"lookup_interval", interval}},
+                                                  {"0.5 mm", "0.5 mm", "0.3 mm"}, false));
+        System& s = scene.system;
+        const double r = s.particles.radius[0], m = s.particles.mass[0];
+        const double tau = m / (6 * kPi * mu * r);
+        s.flow = std::make_shared<StretchingFlow>(0.1 / tau);
+        prepare(s);
+        const long steps = static_cast<long>(std::ceil(8 * tau / s.dt));  // z grows to ~0.6 mm
+        vmax = 0;
+        for (long i = 0; i < steps; ++i) {
+            advance(s);
+            vmax = std::max(vmax, std::fabs(s.particles.velocity[0].z));
+        }
+        evaluations = steps + 1;  // prepare's and one per step
+        return std::make_pair(s, s.dt);
+    };
+    double vmax1 = 0, vmax4 = 0;
+    long e1 = 0, e4 = 0;
+    const auto [every, dt] = run(1, vmax1, e1);
+    const auto [held, dt4] = run(4, vmax4, e4);
+    REQUIRE(dt == dt4);
+    const double z1 = every.particles.position[0].z, z4 = held.particles.position[0].z;
+    const double bound = 3 * dt * std::max(vmax1, vmax4);
+    report("held flow lookups (K = 4): z " + str(z4) + " m against " + str(z1) + " m every step, difference " +
+           str(z1 - z4) + " m, bound (K - 1) dt max|v| = " + str(bound) + " m, " + std::to_string(e4) + " evaluations");
+    CHECK(z1 > 0.5e-3);     // the flow carried the grain
+    CHECK(z1 - z4 > 0);     // held: the grain saw the slower fluid behind it
+    CHECK(z1 - z4 <= bound);
+    CHECK(every.held_flow.held_steps == 0);
+    CHECK(every.held_flow.at.empty());
+    CHECK(held.held_flow.held_steps == e4 - (e4 + 3) / 4);  // fresh at evaluations 1, 5, 9, ...
+}
+
 TEST_CASE("stability: extreme scenes run with finite positions or are refused with a clear message") {
     // Grains of radius 1 um and 1 m, Young's moduli 1e5 and 2e11 Pa, at volume fraction 0.6, with
     // velocity components up to 0.1 m/s; then the soft ones again at 1 mm/s; then 30:1 size

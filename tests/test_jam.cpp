@@ -305,6 +305,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
     refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");
+    refused("no_lookup", {{"model", {{"flow_lookup_interval", 0}}}}, "/model/flow_lookup_interval");
     refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");

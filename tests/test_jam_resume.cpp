@@ -194,23 +194,27 @@ TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
     CHECK(a["results"]["coupled_slices"]["rows"].size() > 5);
 }
 
-TEST_CASE("jam --resume: a finite batch resumes with its drained grains, counts and held magnetic forces") {
+TEST_CASE("jam --resume: a finite batch resumes with its drained grains, counts, held magnetic forces and flow lookups") {
     // The checkpoint holds fewer grains than the scene filled, and the batch's counts live in the
     // protocol state: the resumed run drains on from there and ends as the uninterrupted one.
-    // The magnetic forces are evaluated every 3 steps: the held forces and their age are state
-    // too, checkpointed with the grains and compacted with them as the batch drains.
+    // The magnetic forces are evaluated and the carrier flow looked up every 3 steps: the
+    // held forces, lookups and their ages are state too, checkpointed with the grains and
+    // compacted with them as the batch drains.
     TempDir dir;
     const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
         json s = tiny_scene(out, every);
         s["model"]["downstream_length"] = "0.35 mm";
         s["model"]["supply"] = "batch";
         s["model"]["magnetic_update_interval"] = 3;
+        s["model"]["flow_lookup_interval"] = 3;
         return s;
     });
     const json& b = a["results"]["batch"];
     CHECK(b["grains_drained"].get<long>() > 0);
     CHECK(a["results"]["magnetic"]["update_interval_steps"] == 3);
     CHECK(a["results"]["magnetic"]["steps_with_held_forces"].get<long>() > 0);
+    CHECK(a["results"]["carrier_flow"]["lookup_interval_steps"] == 3);
+    CHECK(a["results"]["carrier_flow"]["steps_with_held_lookups"].get<long>() > 0);
     // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
     // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
     REQUIRE(a["results"]["jammed"] == true);

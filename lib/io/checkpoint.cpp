@@ -9,9 +9,11 @@
 namespace mrjam {
 namespace {
 
-// "MRJAMCK5" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces).
-// Version 4 is still read: its run evaluated the magnetic forces every step, and so does its resumption.
-constexpr std::uint64_t kMagic = 0x354b434d414a524dull;
+// "MRJAMCK6" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces;
+// 6: held carrier-flow lookups). Versions 4 and 5 are still read: their runs evaluated what they
+// did not hold every step, and so do their resumptions.
+constexpr std::uint64_t kMagic = 0x364b434d414a524dull;
+constexpr std::uint64_t kMagicV5 = 0x354b434d414a524dull;
 constexpr std::uint64_t kMagicV4 = 0x344b434d414a524dull;
 
 void put_particles(std::ostream& out, const Particles& p) {
@@ -22,14 +24,14 @@ void get_particles(std::istream& in, Particles& p) {
     p.for_each_array([&](auto& a) { binary::get_vector(in, a); });
 }
 
-// Opens a checkpoint past its magic number; `version` is 4 or 5.
+// Opens a checkpoint past its magic number; `version` is 4, 5 or 6.
 std::ifstream open_and_check(const std::string& path, int& version) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open checkpoint " + path);
     const auto magic = binary::get<std::uint64_t>(in);
-    if (magic != kMagic && magic != kMagicV4)
+    if (magic != kMagic && magic != kMagicV5 && magic != kMagicV4)
         throw std::runtime_error(path + " is not an mrjam checkpoint (or was written by an incompatible version)");
-    version = magic == kMagic ? 5 : 4;
+    version = magic == kMagic ? 6 : magic == kMagicV5 ? 5 : 4;
     return in;
 }
 
@@ -66,6 +68,11 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
             binary::put(out, s.magnetic.held_passes);
             binary::put_vector(out, s.magnetic.held_force);
             binary::put_vector(out, s.magnetic.held_torque);
+        }
+        if (s.physics.drag) {
+            binary::put(out, s.held_flow.age);
+            binary::put(out, s.held_flow.held_steps);
+            binary::put_vector(out, s.held_flow.at);
         }
         binary::put<std::uint64_t>(out, s.walls.size());
         for (const Wall& w : s.walls) {
@@ -130,6 +137,12 @@ void restore_state(const std::string& path, System& s) {
             // resolved then (no update_interval) must not pick up a later tier default mid-run.
             s.magnetic.settings.update_interval = 1;
         }
+    }
+    s.held_flow = HeldFlow{};
+    if (s.physics.drag && version >= 6) {
+        s.held_flow.age = binary::get<int>(in);
+        s.held_flow.held_steps = binary::get<long>(in);
+        binary::get_vector(in, s.held_flow.at);
     }
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");

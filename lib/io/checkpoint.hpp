@@ -24,7 +24,7 @@ struct CheckpointHeader {
     nlohmann::json resolved_scene;
     nlohmann::json history;  // observations recorded so far (e.g. a flux history)
     ProtocolPosition position;
-    int version = 5;  // 4: written before magnetic forces could be held (its run evaluated them every step)
+    int version = 6;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be
 };
 
 // Reads the scene part; restore_state then fills a system built from that scene.

@@ -115,13 +115,15 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     if (in.magnetic_update_interval > 1) magnetic_json["update_interval"] = in.magnetic_update_interval;
     json run_json = {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}};
     if (in.neighbour_skin > 0) run_json["skin"] = in.neighbour_skin;
+    json fluid_json = {{"viscosity", in.viscosity}, {"flow", flow_json}};
+    if (in.flow_lookup_interval > 1) fluid_json["lookup_interval"] = in.flow_lookup_interval;
     return {{"description", "mrjam jam: generated from the jam scene"},
             {"seed", in.seed},
             {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
             {"materials", materials},
             {"material_pairs", material_pairs},
             {"contact", contact_json},
-            {"fluid", {{"viscosity", in.viscosity}, {"flow", flow_json}}},
+            {"fluid", fluid_json},
             {"walls", walls},
             {"grains", batches},
             {"magnetic", magnetic_json},

@@ -73,6 +73,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                               : 0.0;
     // Steps between magnetic evaluations (held in between; docs/magnetic_forces.md measures the cost).
     const long long magnetic_interval = model.integer("magnetic_update_interval", ts.magnetic_interval, 1, 100);
+    // Steps between carrier-flow lookups at the grains (held in between; docs/jam.md measures the cost).
+    const long long flow_lookup_interval = model.integer("flow_lookup_interval", 1, 1, 100);
     // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
     // builds against pairs checked, speed only (docs/benchmarks.md measures it).
     const double neighbour_skin = model.number("neighbour_skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
@@ -350,6 +352,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     engine.field = field_json;
     engine.cutoff_diameters = cutoff;
     engine.magnetic_update_interval = magnetic_interval;
+    engine.flow_lookup_interval = flow_lookup_interval;
     engine.neighbour_skin = neighbour_skin;
     engine.frictionless_slab = frictionless_slab;
     engine.directory = directory;

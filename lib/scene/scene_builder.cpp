@@ -439,6 +439,7 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         s.physics.drag = true;
         s.physics.viscosity = f->quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
         s.physics.fluid_density = f->quantity("density", units::density, 0.0, Bounds::non_negative());
+        s.physics.flow_lookup_interval = static_cast<int>(f->integer("lookup_interval", 1, 1, 100));
         if (auto fl = f->optional_object("flow")) s.flow = read_flow(*fl, s.domain);
         f->finish();
     }
