@@ -11,6 +11,8 @@
 # after it: the cost in accuracy of softer, faster grains (docs/jam.md, "Softer grains").
 # HOLD=K evaluates the magnetic forces every K steps and holds them in between
 # (model/magnetic_update_interval), naming the runs after it (docs/jam.md, "Held magnetic forces").
+# LOOKUP=K looks the carrier flow up at the grains every K steps (model/flow_lookup_interval),
+# naming the runs after it.
 #
 # Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
 # (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it. FINE=quick adds
@@ -43,7 +45,8 @@ for c in "${cases[@]}"; do
     name="${c}_${TIER}_s$s"
     [[ -n ${YOUNGS:-} ]] && name="${c}_${TIER}_E${YOUNGS// /}_s$s"
     [[ -n ${HOLD:-} ]] && name="${name%_s$s}_hold${HOLD}_s$s"
-    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" "${YOUNGS:-}" "${HOLD:-}" <<'PY'
+    [[ -n ${LOOKUP:-} ]] && name="${name%_s$s}_lookup${LOOKUP}_s$s"
+    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" "${YOUNGS:-}" "${HOLD:-}" "${LOOKUP:-}" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
 scene["seed"] = int(sys.argv[3])
@@ -52,6 +55,8 @@ if sys.argv[5]:
     scene.setdefault("material", {})["youngs_modulus"] = sys.argv[5]
 if sys.argv[6]:
     scene.setdefault("model", {})["magnetic_update_interval"] = int(sys.argv[6])
+if sys.argv[7]:
+    scene.setdefault("model", {})["flow_lookup_interval"] = int(sys.argv[7])
 json.dump(scene, open(sys.argv[2], "w"), indent=1)
 PY
     jobs+=("$name")
