@@ -155,6 +155,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         // What the engine did, not what the scene resolves to now: a checkpoint from before held
         // forces resumes evaluating every step whatever the tier's default has become.
         report["fidelity"]["magnetic_update_interval"] = report["results"]["magnetic"]["update_interval_steps"];
+        if (report["results"].contains("carrier_flow"))
+            report["fidelity"]["flow_lookup_interval"] = report["results"]["carrier_flow"]["lookup_interval_steps"];
         if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
         if (!args->quiet) {

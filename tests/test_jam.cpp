@@ -523,6 +523,7 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(report["fidelity"]["magnetic_update_interval"] == 4);
     CHECK(res["magnetic"]["update_interval_steps"] == 4);
     CHECK(res["magnetic"]["steps_with_held_forces"].get<long>() > 0);
+    CHECK(report["fidelity"]["flow_lookup_interval"] == res["carrier_flow"]["lookup_interval_steps"]);
     // The magnet is off during the no-field flow: the force evaluations there (one per step,
     // give or take the first before them and the last, at the switch-on time) skip the
     // magnetic pass; none does once it is on (no arrest here, so it stays on).
