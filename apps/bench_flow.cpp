@@ -60,7 +60,7 @@ double time_calls(const FlowField& f, const std::vector<Vec3>& points) {
 
 void add_flow_bench_command(CLI::App& bench, int& exit_status) {
     auto args = std::make_shared<FlowBenchArgs>();
-    CLI::App* flow = bench.add_subcommand("flow", "Valve carrier flows: ns per velocity call and per grain update");
+    CLI::App* flow = bench.add_subcommand("flow", "Valve carrier flows: ns per drag_at call and per grain update");
     flow->add_option("--points", args->points, "Sample points (and grains for the coupled update)")
         ->check(CLI::Range(1000L, 100000000L))
         ->capture_default_str();

@@ -80,8 +80,8 @@ private:
     std::vector<FlowSlice> slices_;
     // slice_at's starting guess: equal bins over the grid, each naming the slice at its centre.
     // No bin is wider than the narrowest slice, so the exact answer is at most a step or two
-    // away; a binary search over the slices for every grain and step cost ~3 % of the 10 um
-    // valve's step (docs/benchmarks.md, "Carrier flow").
+    // away; against a binary search over the slices, 10 % less per drag_at call, about 1 % of
+    // the 10 um valve's step (docs/benchmarks.md, "Carrier flows").
     double table_origin_ = 0, table_inverse_width_ = 0;
     std::vector<std::uint32_t> table_slice_;
     std::vector<double> speed_, factor_;

@@ -24,7 +24,7 @@ struct CheckpointHeader {
     nlohmann::json resolved_scene;
     nlohmann::json history;  // observations recorded so far (e.g. a flux history)
     ProtocolPosition position;
-    int version = 6;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be
+    int version = 6;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be held
 };
 
 // Reads the scene part; restore_state then fills a system built from that scene.
