@@ -359,6 +359,17 @@ TEST_CASE("jam scene: the neighbour skin reaches the engine scene, the engine's 
     CHECK(read_jam_scene(wider, "quick", ".").engine_scene["run"]["skin"].get<double>() == rel(0.25));
 }
 
+TEST_CASE("jam scene: the quick tier holds the carrier-flow lookups 4 steps, the others look every step") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}};
+    auto lookup_interval = [](const json& engine) { return engine["fluid"].value("lookup_interval", 1); };
+    CHECK(lookup_interval(read_jam_scene(scene, "quick", ".").engine_scene) == 4);
+    CHECK(lookup_interval(read_jam_scene(scene, "standard", ".").engine_scene) == 1);
+    CHECK(lookup_interval(read_jam_scene(scene, "paper", ".").engine_scene) == 1);
+    json every_step = scene;
+    every_step["model"] = {{"flow_lookup_interval", 1}};
+    CHECK(lookup_interval(read_jam_scene(every_step, "quick", ".").engine_scene) == 1);
+}
+
 TEST_CASE("jam scene: every bundled valve example, and every design example's jam block, is accepted at every tier") {
     for (const char* name :
          {"valve_mix2_20x", "valve_mix2_30x", "valve_mix2_40x", "valve_mix2_slot", "valve_10um_30x", "valve_10um_30x_quick", "valve_mix2_30x_table21"})
@@ -523,7 +534,10 @@ TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throa
     CHECK(report["fidelity"]["magnetic_update_interval"] == 4);
     CHECK(res["magnetic"]["update_interval_steps"] == 4);
     CHECK(res["magnetic"]["steps_with_held_forces"].get<long>() > 0);
-    CHECK(report["fidelity"]["flow_lookup_interval"] == res["carrier_flow"]["lookup_interval_steps"]);
+    // It holds the carrier-flow lookups 4 steps too.
+    CHECK(report["fidelity"]["flow_lookup_interval"] == 4);
+    CHECK(res["carrier_flow"]["lookup_interval_steps"] == 4);
+    CHECK(res["carrier_flow"]["steps_with_held_lookups"].get<long>() > 0);
     // The magnet is off during the no-field flow: the force evaluations there (one per step,
     // give or take the first before them and the last, at the switch-on time) skip the
     // magnetic pass; none does once it is on (no arrest here, so it stays on).

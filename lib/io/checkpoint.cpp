@@ -143,6 +143,10 @@ void restore_state(const std::string& path, System& s) {
         s.held_flow.age = binary::get<int>(in);
         s.held_flow.held_steps = binary::get<long>(in);
         binary::get_vector(in, s.held_flow.at);
+    } else if (s.physics.drag) {
+        // Written before lookups could be held: its run looked the flow up every step, and a
+        // scene resolved then must not pick up a later tier default mid-run.
+        s.physics.flow_lookup_interval = 1;
     }
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
