@@ -28,9 +28,10 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
         nlohmann::json& scene = out.campaign.at("scene");
         if (!scene.contains("model")) scene["model"] = nlohmann::json::object();
         nlohmann::json& model = scene["model"];
-        if (model.is_object() && out.header.version < 5 && !model.contains("magnetic_update_interval"))
-            model["magnetic_update_interval"] = 1;
-        if (model.is_object() && !model.contains("flow_lookup_interval")) model["flow_lookup_interval"] = 1;
+        if (model.is_object()) {
+            if (out.header.version < 5 && !model.contains("magnetic_update_interval")) model["magnetic_update_interval"] = 1;
+            if (!model.contains("flow_lookup_interval")) model["flow_lookup_interval"] = 1;
+        }
     }
     return out;
 }
