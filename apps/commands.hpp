@@ -14,5 +14,7 @@ void add_shear_command(CLI::App& app, int& exit_status);      // apps/command_sh
 void add_magnetic_bench_commands(CLI::App& bench, int& exit_status);
 // `bench flow` (apps/bench_flow.cpp): the valve's carrier flows, per call and per update.
 void add_flow_bench_command(CLI::App& bench, int& exit_status);
+// `bench sphere-pair` (apps/bench_sphere_pair.cpp): the point dipoles' error between close spheres.
+void add_sphere_pair_bench_command(CLI::App& bench, int& exit_status);
 
 }  // namespace mrjam::cli

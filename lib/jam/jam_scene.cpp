@@ -76,6 +76,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                               : 0.0;
     // Steps between magnetic evaluations (held in between; docs/magnetic_forces.md measures the cost).
     const long long magnetic_interval = model.integer("magnetic_update_interval", ts.magnetic_interval, 1, 100);
+    // Close pairs: the exact two-sphere force near contact instead of the point dipoles' alone,
+    // above a floor on the gap in radii (docs/magnetic_forces.md, "Close pairs"). Off by default:
+    // the source's model is point dipoles.
+    const double close_pairs_min_gap =
+        model.has("close_pairs_min_gap") ? model.number("close_pairs_min_gap", std::nullopt, Bounds::closed(0.005, 0.5)) : 0.0;
     // Steps between carrier-flow lookups at the grains (held in between; docs/jam.md measures the cost).
     const long long flow_lookup_interval = model.integer("flow_lookup_interval", ts.flow_lookup_interval, 1, 100);
     // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
@@ -355,6 +360,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     engine.field = field_json;
     engine.cutoff_diameters = cutoff;
     engine.magnetic_update_interval = magnetic_interval;
+    engine.close_pairs_min_gap = close_pairs_min_gap;
     engine.flow_lookup_interval = flow_lookup_interval;
     engine.neighbour_skin = neighbour_skin;
     engine.frictionless_slab = frictionless_slab;

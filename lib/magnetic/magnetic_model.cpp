@@ -198,6 +198,7 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     else pair_pass<true, false>(model, p, threads, buffers, force, torque);
     ++model.force_passes;
     if (s.policy == MutualPolicy::lagged) ++model.field_passes;
+    if (s.close_pairs.enabled) add_close_pair_forces(model, p, time, threads, force);
 
     if (model.any_permanent || !model.field->uniform()) {
         for (std::size_t i = 0; i < n; ++i) {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "magnetic/close_pair_correction.hpp"
 #include "magnetic/external_field.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "particles.hpp"
@@ -51,12 +52,15 @@ struct MagneticSettings {
     // costs little accuracy for a pass that is a third of a step's work (docs/magnetic_forces.md
     // measures it). 1: every step.
     int update_interval = 1;
+    // The two-body correction for close pairs (off: point dipoles only, as the source).
+    ClosePairSettings close_pairs;
 };
 
 struct MagneticModel {
     bool enabled = false;
     MagneticSettings settings;
     std::shared_ptr<ExternalField> field;
+    ClosePairTable close_pair_table;    // built when settings.close_pairs is enabled
     NeighborList pairs;                 // magnetic range; rebuilt with the contact list
     std::vector<Vec3> neighbour_field;  // H at each grain from its neighbours' dipoles, A/m
     bool any_permanent = false;

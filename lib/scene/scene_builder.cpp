@@ -324,6 +324,29 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     return st;
 }
 
+// The close-pair table is for one permeability: every magnetisable grain must share it, and the
+// magnetic list must reach the correction's range for the smallest and largest grains.
+void build_close_pair_table(System& s, double r_max) {
+    const Particles& p = s.particles;
+    double beta = -1, r_min = r_max;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        r_min = std::min(r_min, p.radius[i]);
+        if (p.induced_coefficient[i] <= 0) continue;
+        const double b = p.induced_coefficient[i] / (4.0 * M_PI * std::pow(p.radius[i], 3));
+        if (beta < 0) beta = b;
+        else if (std::abs(b - beta) > 1e-9 * beta)
+            throw SceneError("/magnetic/close_pairs", "the correction is tabulated for one permeability, and the grains' "
+                                                      "materials differ in relative_permeability; give them one, or drop close_pairs");
+    }
+    if (beta <= 0) throw SceneError("/magnetic/close_pairs", "no grain is magnetisable (relative_permeability 1); drop close_pairs");
+    const ClosePairSettings& cs = s.magnetic.settings.close_pairs;
+    for (double r : {r_min, r_max})
+        if (s.magnetic.pairs.interaction_range(r, r) < (2.0 + cs.range) * r)
+            throw SceneError("/magnetic/close_pairs/range", "the magnetic cutoff does not reach a gap of " + fmt(cs.range) +
+                                                                " radii; lengthen the cutoff or shorten the range");
+    s.magnetic.close_pair_table = ClosePairTable((1.0 + 2.0 * beta) / (1.0 - beta), cs);
+}
+
 void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier) {
     MagneticModel& mag = s.magnetic;
     mag.enabled = true;
@@ -360,6 +383,15 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
     st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
     st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
+    if (auto close = node.optional_object("close_pairs")) {
+        // The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").
+        st.close_pairs.enabled = true;
+        st.close_pairs.min_gap = close->number("min_gap", st.close_pairs.min_gap, Bounds::closed(0.005, 1.0));
+        st.close_pairs.range = close->number("range", st.close_pairs.range, Bounds::closed(0.1, 4.0));
+        if (!(st.close_pairs.range > st.close_pairs.min_gap))
+            close->fail("range", "must exceed min_gap (both are surface gaps in radii)");
+        close->finish();
+    }
     if (auto cut = node.optional_object("cutoff")) {
         const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
         if (given != 1) cut->fail("diameters", "give exactly one of 'diameters', 'beyond_contact' or 'length'");
@@ -541,6 +573,7 @@ void choose_timestep(Scene& scene) {
                                                          std::string(1, char('x' + k)) + "; shorten the cutoff or enlarge the box");
         s.magnetic.any_permanent = false;
         for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
+        if (ms.close_pairs.enabled) build_close_pair_table(s, r_max);
         initialise_moments(s.magnetic, s.particles, s.time);
     }
 

@@ -1,0 +1,143 @@
+#include "magnetic/sphere_pair_exact.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mrjam {
+
+namespace {
+
+// Dense LU with partial pivoting: the systems are a few thousand unknowns at most.
+class DenseLu {
+public:
+    DenseLu(std::vector<double> matrix, int size) : a_(std::move(matrix)), n_(size), pivot_(size) {
+        for (int k = 0; k < n_; ++k) {
+            int p = k;
+            for (int i = k + 1; i < n_; ++i)
+                if (std::abs(at(i, k)) > std::abs(at(p, k))) p = i;
+            if (at(p, k) == 0.0) throw std::runtime_error("sphere pair: singular multipole system");
+            pivot_[k] = p;
+            if (p != k)
+                for (int j = 0; j < n_; ++j) std::swap(at(k, j), at(p, j));
+            const double inv = 1.0 / at(k, k);
+            for (int i = k + 1; i < n_; ++i) {
+                const double f = (at(i, k) *= inv);
+                if (f == 0.0) continue;
+                for (int j = k + 1; j < n_; ++j) at(i, j) -= f * at(k, j);
+            }
+        }
+    }
+    std::vector<double> solve(std::vector<double> b) const {
+        for (int k = 0; k < n_; ++k) std::swap(b[k], b[pivot_[k]]);
+        for (int i = 0; i < n_; ++i)
+            for (int j = 0; j < i; ++j) b[i] -= at(i, j) * b[j];
+        for (int i = n_ - 1; i >= 0; --i) {
+            for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
+            b[i] /= at(i, i);
+        }
+        return b;
+    }
+
+private:
+    double& at(int i, int j) { return a_[static_cast<size_t>(i) * n_ + j]; }
+    double at(int i, int j) const { return a_[static_cast<size_t>(i) * n_ + j]; }
+    std::vector<double> a_;
+    int n_;
+    std::vector<int> pivot_;
+};
+
+// The sphere's reply to an incident regular harmonic of order n (radius 1): A_n = -gamma_n B_n.
+double reply(double mu, int n) { return n * (mu - 1.0) / (n * mu + n + 1.0); }
+
+int azimuthal_order(PairOrientation orientation) { return orientation == PairOrientation::axial ? 0 : 1; }
+
+}  // namespace
+
+// Hobson's theorem, (d/dx + i d/dy)^m (d/dz)^(n-m) (1/r) = (-1)^n (n-m)! r^-(n+1) P_n^m e^{i m phi},
+// applied to 1/|r - s z| = sum_k sign(s)^k r^k P_k / |s|^(k+1), with d/dz r^k P_k = k r^(k-1) P_(k-1)
+// and (d/dx + i d/dy) r^k P_k = -r^(k-1) P_(k-1)^1 e^{i phi}. Factorials by lgamma: orders reach
+// thousands, where the binomial and |s|^-(l+n+1) each overflow but their product is below 1.
+double translation_coefficient(int m, int l, int n, double offset) {
+    if (m < 0 || m > 1 || l < m || n < std::max(m, 0) || (m == 1 && n < 1))
+        throw std::invalid_argument("translation_coefficient: orders out of range");
+    const int k = l + n;
+    const double log_magnitude = m == 0
+        ? std::lgamma(k + 1.0) - std::lgamma(n + 1.0) - std::lgamma(l + 1.0) - (k + 1) * std::log(std::abs(offset))
+        : std::lgamma(k + 1.0) - std::lgamma(n + 0.0) - std::lgamma(l + 2.0) - (k + 1) * std::log(std::abs(offset));
+    const bool negative_offset_sign = offset < 0 && (k % 2 == 1);  // sign(s)^k
+    const bool hobson_sign = (n + m) % 2 == 1;                     // (-1)^n, and the extra -1 for m = 1
+    const double sign = (negative_offset_sign != hobson_sign) ? -1.0 : 1.0;
+    return sign * std::exp(log_magnitude);
+}
+
+SpherePairResponse sphere_pair_response(double mu, double separation, PairOrientation orientation, int order) {
+    if (!(separation > 2.0)) throw std::invalid_argument("sphere pair: the centre distance must exceed the diameter");
+    if (order < 1) throw std::invalid_argument("sphere pair: order must be at least 1");
+    const int m = azimuthal_order(orientation);
+    const int size = 2 * order;  // A^1_1..A^1_N, then A^2_1..A^2_N
+    std::vector<double> matrix(static_cast<size_t>(size) * size, 0.0), dmatrix(matrix.size(), 0.0);
+    std::vector<double> rhs(size, 0.0);
+    for (int sphere = 0; sphere < 2; ++sphere) {
+        const double offset = sphere == 0 ? separation : -separation;  // the other centre, seen from this one
+        for (int l = 1; l <= order; ++l) {
+            const int row = sphere * order + (l - 1);
+            const double g = reply(mu, l);
+            matrix[static_cast<size_t>(row) * size + row] = 1.0;
+            for (int n = 1; n <= order; ++n) {
+                const int col = (1 - sphere) * order + (n - 1);
+                const double t = g * translation_coefficient(m, l, n, offset);
+                matrix[static_cast<size_t>(row) * size + col] = t;
+                dmatrix[static_cast<size_t>(row) * size + col] = -t * (l + n + 1) / separation;
+            }
+        }
+        // The applied potential is -r P_1^m e^{i m phi} about either centre: B_1 = -1.
+        rhs[sphere * order] = reply(mu, 1);
+    }
+    const DenseLu lu(matrix, size);
+    const std::vector<double> a = lu.solve(rhs);
+    std::vector<double> da_rhs(size, 0.0);
+    for (int i = 0; i < size; ++i) {
+        double acc = 0;
+        for (int j = 0; j < size; ++j) acc += dmatrix[static_cast<size_t>(i) * size + j] * a[j];
+        da_rhs[i] = -acc;
+    }
+    const std::vector<double> da = lu.solve(da_rhs);
+    return {a[0] + a[order], da[0] + da[order], order};
+}
+
+SpherePairResponse converged_sphere_pair_response(double mu, double separation, PairOrientation orientation,
+                                                  double relative_tolerance, int max_order) {
+    SpherePairResponse previous = sphere_pair_response(mu, separation, orientation, 8);
+    for (int order = 16; order <= max_order; order *= 2) {
+        const SpherePairResponse next = sphere_pair_response(mu, separation, orientation, order);
+        const bool alpha_done = std::abs(next.polarisability - previous.polarisability) <=
+                                relative_tolerance * std::abs(next.polarisability);
+        const bool force_done = std::abs(next.dpolarisability_ds - previous.dpolarisability_ds) <=
+                                relative_tolerance * std::abs(next.dpolarisability_ds);
+        if (alpha_done && force_done) return next;
+        previous = next;
+    }
+    char message[200];
+    std::snprintf(message, sizeof message,
+                  "sphere pair: the multipole series did not converge by order %d at a gap of %.3g radii; "
+                  "raise max_order or widen the gap",
+                  max_order, separation - 2.0);
+    throw std::runtime_error(message);
+}
+
+SpherePairResponse mutual_dipole_pair_response(double mu, double separation, PairOrientation orientation) {
+    const double beta = (mu - 1.0) / (mu + 2.0);
+    // The other dipole's field at this centre, per unit of its moment over 4 pi: 2/s^3 along the
+    // line of centres, -1/s^3 across it.
+    const double k = orientation == PairOrientation::axial ? 2.0 : -1.0;
+    const double s3 = separation * separation * separation;
+    const double denominator = 1.0 - k * beta / s3;
+    const double alpha = 2.0 * beta / denominator;
+    const double dalpha = -2.0 * beta * (3.0 * k * beta / (s3 * separation)) / (denominator * denominator);
+    return {alpha, dalpha, 1};
+}
+
+}  // namespace mrjam
