@@ -58,6 +58,11 @@ nlohmann::json state_summary(const System& s) {
                          {"listed_magnetic_neighbours_per_grain", s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
                          {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},
                          {"applied_field", s.magnetic.field->name()}};
+        const ClosePairSettings& cp = s.magnetic.settings.close_pairs;
+        j["magnetic"]["close_pairs"] =
+            cp.enabled ? nlohmann::json{{"min_gap_radii", cp.min_gap}, {"range_radii", cp.range},
+                                        {"relative_permeability", s.magnetic.close_pair_table.relative_permeability()}}
+                       : nlohmann::json(nullptr);
     }
     for (const Raft& r : s.rafts)
         j["rafts"].push_back({{"name", r.name}, {"grains", r.members}, {"force_N", {r.force.x, r.force.y, r.force.z}},

@@ -306,6 +306,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
     refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");
     refused("no_lookup", {{"model", {{"flow_lookup_interval", 0}}}}, "/model/flow_lookup_interval");
+    refused("close_pairs", {{"model", {{"close_pairs_min_gap", 0}}}}, "/model/close_pairs_min_gap");
     refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}}, "/protocol/steady_window");
     refused("short_cells", {{"fluid", {{"flow", "pressure"}, {"resistance_cell_length", "10 um"}}}},
             "/fluid/resistance_cell_length");
@@ -368,6 +369,15 @@ TEST_CASE("jam scene: the quick tier holds the carrier-flow lookups 4 steps, the
     json every_step = scene;
     every_step["model"] = {{"flow_lookup_interval", 1}};
     CHECK(lookup_interval(read_jam_scene(every_step, "quick", ".").engine_scene) == 1);
+}
+
+TEST_CASE("jam scene: the close-pair correction is off unless the model asks for it, and reaches the engine") {
+    const json scene = {{"valve", {{"constriction", "30x"}}}};
+    CHECK_FALSE(read_jam_scene(scene, "quick", ".").engine_scene["magnetic"].contains("close_pairs"));
+    json corrected = scene;
+    corrected["model"] = {{"close_pairs_min_gap", 0.1}};
+    const json engine = read_jam_scene(corrected, "quick", ".").engine_scene;
+    CHECK(engine["magnetic"]["close_pairs"]["min_gap"].get<double>() == rel(0.1));
 }
 
 TEST_CASE("jam scene: every bundled valve example, and every design example's jam block, is accepted at every tier") {

@@ -92,6 +92,19 @@ TEST_CASE("cli: a small magnetic scene runs and reports its magnetic results") {
     CHECK(rep["inputs"]["materials"][0]["relative_permeability"] == 1000);
 }
 
+TEST_CASE("cli: a magnetic scene with the close-pair correction runs and says which table it used") {
+    TempDir dir;
+    json s = magnetic_scene();
+    s["magnetic"]["close_pairs"] = {{"min_gap", 0.05}};
+    const Result r = run_scene(dir, "close_pairs", s);
+    CAPTURE(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json cp = json::parse(slurp(dir.file("close_pairs_report.json")))["results"]["magnetic"]["close_pairs"];
+    CHECK(cp["min_gap_radii"].get<double>() == doctest::Approx(0.05));
+    CHECK(cp["range_radii"].get<double>() == doctest::Approx(1.0));
+    CHECK(cp["relative_permeability"].get<double>() == doctest::Approx(1000.0).epsilon(1e-9));
+}
+
 TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path of the bad field") {
     TempDir dir;
     {
@@ -114,6 +127,18 @@ TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path
         json s = magnetic_scene();
         s["magnetic"]["update_interval"] = 0;  // forces never evaluated
         expect_refused(dir, "no_evaluation", s, "/magnetic/update_interval");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["close_pairs"] = {{"min_gap", 0.5}, {"range", 0.3}};  // nothing left between them
+        expect_refused(dir, "close_pairs_inverted", s, "/magnetic/close_pairs/range");
+    }
+    {
+        json s = magnetic_scene();
+        s["magnetic"]["cutoff"] = {{"diameters", 1.2}};  // reaches a gap of 0.8 radii
+        s["magnetic"]["close_pairs"] = {{"range", 1.0}};
+        const Result r = expect_refused(dir, "close_pairs_beyond_cutoff", s, "/magnetic/close_pairs/range");
+        CHECK(r.err.find("cutoff") != std::string::npos);
     }
     {
         json s = magnetic_scene();
