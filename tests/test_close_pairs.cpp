@@ -8,6 +8,8 @@
 //     Tolerance 2e-3 of the force: the table's linear interpolation in log(gap) (96 points from
 //     0.01 to 1 radius) is good to ~1e-3 of the correction.
 //  2. Beyond the range the engine's force is the point dipoles' alone; action equals reaction.
+//  3. A field looked up per grain (a map's path) gives the uniform shortcut's forces, on one
+//     thread and on two.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -21,13 +23,30 @@ using namespace mrjam;
 
 namespace {
 
+// A uniform field that does not say so, so the engine looks it up at every grain as in a map.
+class LookedUpField final : public ExternalField {
+public:
+    explicit LookedUpField(Vec3 b) : b_(b) {}
+    Vec3 flux_density(const Vec3&, double) const override { return b_; }
+    Gradient gradient(const Vec3&, double) const override { return {}; }
+    bool uniform() const override { return false; }
+    std::string name() const override { return "looked up"; }
+
+private:
+    Vec3 b_;
+};
+
 struct Pair {
     Particles p;
     MagneticModel model;
     Domain domain;
-    Pair(double radius, double mu, double b, const Vec3& offset, bool corrected) {
+    Pair(double radius, double mu, double b, const Vec3& offset, bool corrected, bool looked_up = false,
+         int threads = 1) {
         model.enabled = true;
-        model.field = std::make_shared<UniformField>(Vec3{0, 0, b}, 0.0, 0.0, 1e300);
+        if (looked_up)
+            model.field = std::make_shared<LookedUpField>(Vec3{0, 0, b});
+        else
+            model.field = std::make_shared<UniformField>(Vec3{0, 0, b}, 0.0, 0.0, 1e300);
         model.settings.policy = MutualPolicy::converged;
         model.settings.tolerance = 1e-13;
         model.settings.max_iterations = 1000;
@@ -46,7 +65,7 @@ struct Pair {
         model.pairs.build(p, domain, 1);
         for (auto& f : p.force) f = Vec3{};
         initialise_moments(model, p, 0.0);
-        add_magnetic_forces(model, p, 0.0, 1);
+        add_magnetic_forces(model, p, 0.0, threads);
     }
 };
 
@@ -89,6 +108,17 @@ TEST_CASE("close pairs: no correction beyond the range") {
     const Vec3 x1{0.3 * a, 0, 3.2 * a};  // gap ~1.21 radii > range 1
     const Pair corrected(a, 1000, 0.01, x1, true), plain(a, 1000, 0.01, x1, false);
     CHECK(norm(corrected.p.force[1] - plain.p.force[1]) == 0.0);
+}
+
+TEST_CASE("close pairs: a field looked up per grain gives the uniform shortcut's forces") {
+    const double a = 10e-6;
+    const Vec3 x1{1.0 * a, 0.4 * a, 1.8 * a};  // gap ~0.1 radii, off the field's axis
+    const Pair shortcut(a, 1000, 0.01, x1, true);
+    for (int threads : {1, 2}) {
+        CAPTURE(threads);
+        const Pair looked_up(a, 1000, 0.01, x1, true, true, threads);
+        for (int i : {0, 1}) CHECK(norm(looked_up.p.force[i] - shortcut.p.force[i]) <= 1e-12 * norm(shortcut.p.force[i]));
+    }
 }
 
 }  // TEST_SUITE

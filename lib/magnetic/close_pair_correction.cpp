@@ -85,10 +85,13 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
     const int nt = std::max(1, threads);
     const double reach = 2.0 + model.settings.close_pairs.range;  // centre distance over mean radius
     const bool uniform = model.field->uniform();
-    const Vec3 b_uniform = uniform ? model.field->flux_density(Vec3{}, time) : Vec3{};
+    const Vec3 h_uniform = uniform ? model.field->flux_density(Vec3{}, time) * (1.0 / kMu0) : Vec3{};
     static thread_local std::vector<std::vector<Vec3>> calling_thread_buffers;
+    static thread_local std::vector<Vec3> calling_thread_applied;
     std::vector<std::vector<Vec3>>& buffers = calling_thread_buffers;  // one object for the team
+    std::vector<Vec3>& applied = calling_thread_applied;  // H of the applied field at each grain
     buffers.resize(nt);
+    if (!uniform) applied.resize(n);
 #pragma omp parallel num_threads(nt)
     {
         const int tid = omp_get_thread_num();
@@ -98,6 +101,12 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
             f = buffers[tid].data();
         }
         const std::size_t begin = n * tid / nt, end = n * (tid + 1) / nt;
+        // A field map is looked up once per grain, not once per grain per close partner.
+        if (!uniform) {
+            for (std::size_t i = begin; i < end; ++i)
+                applied[i] = model.field->flux_density(p.position[i], time) * (1.0 / kMu0);
+#pragma omp barrier
+        }
         for (std::size_t i = begin; i < end; ++i) {
             for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
                 const std::uint32_t j = list.partners[k];
@@ -109,11 +118,11 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
                 const double inv_r2 = 1.0 / r2;
                 const double c = 1.0 / (4.0 * M_PI) * inv_r2 * std::sqrt(inv_r2);
                 const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
-                const Vec3 from_j = (d * (3.0 * dot(mj, d) * inv_r2) - mj) * c;
-                const Vec3 from_i = (d * (3.0 * dot(mi, d) * inv_r2) - mi) * c;
-                const Vec3 bi = uniform ? b_uniform : model.field->flux_density(p.position[i], time);
-                const Vec3 bj = uniform ? b_uniform : model.field->flux_density(p.position[j], time);
-                const Vec3 h = ((bi + bj) * (1.0 / kMu0) + model.neighbour_field[i] + model.neighbour_field[j] -
+                const Vec3 from_j = dipole_field(mj, d, dot(mj, d), inv_r2, c);
+                const Vec3 from_i = dipole_field(mi, d, dot(mi, d), inv_r2, c);
+                const Vec3 applied_i = uniform ? h_uniform : applied[i];
+                const Vec3 applied_j = uniform ? h_uniform : applied[j];
+                const Vec3 h = (applied_i + applied_j + model.neighbour_field[i] + model.neighbour_field[j] -
                                 from_j - from_i) *
                                0.5;
                 const Vec3 pair_force = close_pair_force(table, d, a, h);

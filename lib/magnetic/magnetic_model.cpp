@@ -73,8 +73,8 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
                 const Vec3 mj = m[j];
                 const double mi_d = dot(mi, d), mj_d = dot(mj, d);
                 // Dipole fields (even in d): at i from j, at j from i.
-                const Vec3 h_at_i = (d * (3.0 * mj_d * inv_r2) - mj) * c;
-                const Vec3 h_at_j = (d * (3.0 * mi_d * inv_r2) - mi) * c;
+                const Vec3 h_at_i = dipole_field(mj, d, mj_d, inv_r2, c);
+                const Vec3 h_at_j = dipole_field(mi, d, mi_d, inv_r2, c);
                 hi += h_at_i;
                 h[j] += h_at_j;
                 if constexpr (WithForces) {

@@ -21,6 +21,12 @@ namespace mrjam {
 
 inline constexpr double kMu0 = 1.25663706212e-6;  // vacuum permeability, T m / A
 
+// The field of dipole m at separation d from it (H, A/m), given m.d, inv_r2 = 1/|d|^2 and
+// c = 1/(4 pi |d|^3): (3 d (m.d)/|d|^2 - m) c. Even in d, so the same for either end of a pair.
+inline Vec3 dipole_field(const Vec3& m, const Vec3& d, double m_d, double inv_r2, double c) {
+    return (d * (3.0 * m_d * inv_r2) - m) * c;
+}
+
 // Eq. 4.8: the force on dipole m_i from dipole m_j, d = x_i - x_j (rhat from j to i), given
 // inv_r2 = 1/|d|^2, c = 1/(4 pi |d|^3) and the projections m_i.d, m_j.d the field pass shares.
 inline Vec3 dipole_pair_force(const Vec3& mi, const Vec3& mj, const Vec3& d, double inv_r2, double c, double mi_d,
