@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "thread_sums.hpp"
+
 namespace mrjam {
 namespace {
 
 struct ThreadBuffers {
-    std::vector<std::vector<Vec3>> force, torque;
+    PerThreadSums force, torque;
     std::vector<ContactStats> stats;
     std::vector<std::vector<Vec3>> raft_force;
 };
@@ -217,14 +219,9 @@ void compute_all(System& s, bool zero_first) {
     {
         const int tid = omp_get_thread_num();
         // Thread 0 writes straight into the grains' arrays; the others into private buffers.
-        Vec3* f = p.force.data();
-        Vec3* t = p.torque.data();
-        if (tid > 0) {
-            b.force[tid].assign(n, Vec3{});
-            b.torque[tid].assign(n, Vec3{});
-            f = b.force[tid].data();
-            t = b.torque[tid].data();
-        } else if (zero_first) {
+        Vec3* f = b.force.target(tid, p.force);
+        Vec3* t = b.torque.target(tid, p.torque);
+        if (tid == 0 && zero_first) {
             std::fill(p.force.begin(), p.force.end(), Vec3{});
             std::fill(p.torque.begin(), p.torque.end(), Vec3{});
         }
@@ -238,15 +235,8 @@ void compute_all(System& s, bool zero_first) {
         }
         if (s.physics.drag || s.physics.gravity) body_forces(s, lookup, f, begin, end);
 #pragma omp barrier
-        // Reduce the private buffers, each thread summing its own slice of grains in thread order.
-        for (int other = 1; other < nthreads; ++other) {
-            const Vec3* of = b.force[other].data();
-            const Vec3* ot = b.torque[other].data();
-            for (std::size_t i = begin; i < end; ++i) {
-                p.force[i] += of[i];
-                p.torque[i] += ot[i];
-            }
-        }
+        b.force.reduce_into(p.force, begin, end);
+        b.torque.reduce_into(p.torque, begin, end);
     }
 
     if (lookup == FlowLookup::held) {

@@ -9,6 +9,7 @@
 #include "magnetic/magnetic_model.hpp"
 #include "magnetic/sphere_pair_exact.hpp"
 #include "particles.hpp"
+#include "thread_sums.hpp"
 
 namespace mrjam {
 
@@ -86,20 +87,16 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
     const double reach = 2.0 + model.settings.close_pairs.range;  // centre distance over mean radius
     const bool uniform = model.field->uniform();
     const Vec3 h_uniform = uniform ? model.field->flux_density(Vec3{}, time) * (1.0 / kMu0) : Vec3{};
-    static thread_local std::vector<std::vector<Vec3>> calling_thread_buffers;
+    static thread_local PerThreadSums calling_thread_sums;
     static thread_local std::vector<Vec3> calling_thread_applied;
-    std::vector<std::vector<Vec3>>& buffers = calling_thread_buffers;  // one object for the team
+    PerThreadSums& sums = calling_thread_sums;            // one object for the team
     std::vector<Vec3>& applied = calling_thread_applied;  // H of the applied field at each grain
-    buffers.resize(nt);
+    sums.resize(nt);
     if (!uniform) applied.resize(n);
 #pragma omp parallel num_threads(nt)
     {
         const int tid = omp_get_thread_num();
-        Vec3* f = force.data();
-        if (tid > 0) {
-            buffers[tid].assign(n, Vec3{});
-            f = buffers[tid].data();
-        }
+        Vec3* f = sums.target(tid, force);
         const std::size_t begin = n * tid / nt, end = n * (tid + 1) / nt;
         // A field map is looked up once per grain, not once per grain per close partner.
         if (!uniform) {
@@ -131,8 +128,7 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
             }
         }
 #pragma omp barrier
-        for (int other = 1; other < nt; ++other)
-            for (std::size_t i = begin; i < end; ++i) force[i] += buffers[other][i];
+        sums.reduce_into(force, begin, end);
     }
 }
 

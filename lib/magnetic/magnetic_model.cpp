@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "thread_sums.hpp"
+
 namespace mrjam {
 namespace {
 
@@ -20,7 +22,7 @@ inline Vec3 moment_in(const Particles& p, std::size_t i, const Vec3& h) {
 }
 
 struct Buffers {
-    std::vector<std::vector<Vec3>> force, torque, field;  // threads 1..n-1; thread 0 writes in place
+    PerThreadSums force, torque, field;
 };
 
 // One pass over the magnetic pairs. Always sums the neighbour field at every grain (into
@@ -42,15 +44,9 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
         const int tid = omp_get_thread_num();
         // Thread 0 accumulates straight into the shared arrays, the others into private buffers
         // summed below in thread order (deterministic for a given thread count).
-        Vec3* __restrict h = model.neighbour_field.data();
-        Vec3* __restrict f = force.data();
-        Vec3* __restrict t = torque.data();
-        if (tid > 0) {
-            b.field[tid].assign(n, Vec3{});
-            h = b.field[tid].data();
-            if (WithForces) { b.force[tid].assign(n, Vec3{}); f = b.force[tid].data(); }
-            if (WithTorques) { b.torque[tid].assign(n, Vec3{}); t = b.torque[tid].data(); }
-        }
+        Vec3* __restrict h = b.field.target(tid, model.neighbour_field);
+        Vec3* __restrict f = WithForces ? b.force.target(tid, force) : nullptr;
+        Vec3* __restrict t = WithTorques ? b.torque.target(tid, torque) : nullptr;
         const Vec3* __restrict x = p.position.data();
         const Vec3* __restrict m = p.dipole_moment.data();
         const std::uint32_t* __restrict offsets = list.offsets.data();
@@ -92,13 +88,9 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
             if constexpr (WithTorques) t[i] += ti;
         }
 #pragma omp barrier
-        for (int other = 1; other < nt; ++other) {
-            for (std::size_t i = begin; i < end; ++i) {
-                model.neighbour_field[i] += b.field[other][i];
-                if (WithForces) force[i] += b.force[other][i];
-                if (WithTorques) torque[i] += b.torque[other][i];
-            }
-        }
+        b.field.reduce_into(model.neighbour_field, begin, end);
+        if (WithForces) b.force.reduce_into(force, begin, end);
+        if (WithTorques) b.torque.reduce_into(torque, begin, end);
     }
 }
 
