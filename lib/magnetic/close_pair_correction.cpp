@@ -88,22 +88,13 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
     const bool uniform = model.field->uniform();
     const Vec3 h_uniform = uniform ? model.field->flux_density(Vec3{}, time) * (1.0 / kMu0) : Vec3{};
     static thread_local PerThreadSums calling_thread_sums;
-    static thread_local std::vector<Vec3> calling_thread_applied;
-    PerThreadSums& sums = calling_thread_sums;            // one object for the team
-    std::vector<Vec3>& applied = calling_thread_applied;  // H of the applied field at each grain
+    PerThreadSums& sums = calling_thread_sums;  // one object for the team
     sums.resize(nt);
-    if (!uniform) applied.resize(n);
 #pragma omp parallel num_threads(nt)
     {
         const int tid = omp_get_thread_num();
         Vec3* f = sums.target(tid, force);
         const std::size_t begin = n * tid / nt, end = n * (tid + 1) / nt;
-        // A field map is looked up once per grain, not once per grain per close partner.
-        if (!uniform) {
-            for (std::size_t i = begin; i < end; ++i)
-                applied[i] = model.field->flux_density(p.position[i], time) * (1.0 / kMu0);
-#pragma omp barrier
-        }
         for (std::size_t i = begin; i < end; ++i) {
             for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
                 const std::uint32_t j = list.partners[k];
@@ -117,8 +108,9 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
                 const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
                 const Vec3 from_j = dipole_field(mj, d, dot(mj, d), inv_r2, c);
                 const Vec3 from_i = dipole_field(mi, d, dot(mi, d), inv_r2, c);
-                const Vec3 applied_i = uniform ? h_uniform : applied[i];
-                const Vec3 applied_j = uniform ? h_uniform : applied[j];
+                // A field map was looked up once per grain for this evaluation (the moments').
+                const Vec3 applied_i = uniform ? h_uniform : model.applied_flux_density[i] * (1.0 / kMu0);
+                const Vec3 applied_j = uniform ? h_uniform : model.applied_flux_density[j] * (1.0 / kMu0);
                 const Vec3 h = (applied_i + applied_j + model.neighbour_field[i] + model.neighbour_field[j] -
                                 from_j - from_i) *
                                0.5;

@@ -54,7 +54,8 @@ private:
 Vec3 close_pair_force(const ClosePairTable& table, const Vec3& d, double a, const Vec3& h);
 
 // Adds the corrections for every listed magnetic pair within range to `force`, using the current
-// moments and model.neighbour_field (as the last pair pass left them).
+// moments, model.neighbour_field (as the last pair pass left them) and, in a non-uniform field,
+// model.applied_flux_density (as add_magnetic_forces looked it up for this evaluation).
 void add_close_pair_forces(const MagneticModel& model, const Particles& p, double time, int threads,
                            std::vector<Vec3>& force);
 

@@ -94,6 +94,16 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
     }
 }
 
+// Fills model.applied_flux_density at the grains' positions for this evaluation (a uniform field
+// needs no table: its users take the one value).
+void look_up_applied_field(MagneticModel& model, const Particles& p, double time, int threads) {
+    if (model.field->uniform()) return;
+    const std::size_t n = p.size();
+    model.applied_flux_density.resize(n);
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+    for (std::size_t i = 0; i < n; ++i) model.applied_flux_density[i] = model.field->flux_density(p.position[i], time);
+}
+
 // New moments from the applied field and the last neighbour field; returns max |dm| / max |m|.
 double update_moments(const MagneticModel& model, Particles& p, double time, bool with_neighbours, int threads) {
     double max_change = 0, max_moment = 0;
@@ -102,7 +112,7 @@ double update_moments(const MagneticModel& model, Particles& p, double time, boo
     const Vec3 h_uniform = uniform ? model.field->flux_density(Vec3{}, time) * (1.0 / kMu0) : Vec3{};
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) reduction(max : max_change, max_moment)
     for (std::size_t i = 0; i < n; ++i) {
-        Vec3 h = uniform ? h_uniform : model.field->flux_density(p.position[i], time) * (1.0 / kMu0);
+        Vec3 h = uniform ? h_uniform : model.applied_flux_density[i] * (1.0 / kMu0);
         if (with_neighbours) h += model.neighbour_field[i];
         const Vec3 m = moment_in(p, i, h);
         max_change = std::max(max_change, norm(m - p.dipole_moment[i]));
@@ -125,8 +135,9 @@ void add_held(const MagneticModel& model, Particles& p, int threads) {
 
 }  // namespace
 
-void initialise_moments(const MagneticModel& model, Particles& p, double time) {
+void initialise_moments(MagneticModel& model, Particles& p, double time) {
     p.dipole_moment.resize(p.size());
+    look_up_applied_field(model, p, time, 1);
     update_moments(model, p, time, false, 1);
 }
 
@@ -169,6 +180,7 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     }
     std::vector<Vec3>& force = holding ? model.held_force : p.force;
     std::vector<Vec3>& grain_torque = holding ? model.held_torque : p.torque;
+    look_up_applied_field(model, p, time, threads);
     // Moments for this step's forces.
     if (s.policy == MutualPolicy::fixed) {
         update_moments(model, p, time, false, threads);
@@ -197,7 +209,9 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
             const Vec3& m = p.dipole_moment[i];
             if (model.any_permanent && norm2(p.permanent_moment[i]) > 0) {
                 // Only a permanent moment turns its grain; an induced one follows the field.
-                grain_torque[i] += torque[i] + cross(m, model.field->flux_density(p.position[i], time));  // eqs. 4.7, 4.9
+                const Vec3 b = model.field->uniform() ? model.field->flux_density(p.position[i], time)
+                                                      : model.applied_flux_density[i];
+                grain_torque[i] += torque[i] + cross(m, b);  // eqs. 4.7, 4.9
             }
             if (!model.field->uniform()) {
                 // grad(m . B_ext) with m held fixed (eq. 4.6): F_k = sum_l m_l dB_l/dx_k.

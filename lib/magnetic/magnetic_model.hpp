@@ -69,6 +69,9 @@ struct MagneticModel {
     ClosePairTable close_pair_table;    // built when settings.close_pairs is enabled
     NeighborList pairs;                 // magnetic range; rebuilt with the contact list
     std::vector<Vec3> neighbour_field;  // H at each grain from its neighbours' dipoles, A/m
+    // B of a non-uniform applied field at each grain, T: looked up once per evaluation (positions
+    // and time are fixed within one) for the moments, the torques and the close-pair correction.
+    std::vector<Vec3> applied_flux_density;
     bool any_permanent = false;
     long field_passes = 0;              // mutual-dipole field evaluations so far
     long force_passes = 0;
@@ -86,7 +89,7 @@ bool magnet_acts(const MagneticModel& model, double time);
 
 // Sets every grain's moment from the applied field (and its permanent moment); call after the
 // grains and the model are set up and before the first forces.
-void initialise_moments(const MagneticModel& model, Particles& particles, double time);
+void initialise_moments(MagneticModel& model, Particles& particles, double time);
 
 // Adds magnetic forces and torques to the grains (after the contact forces), advancing the moments
 // as the policy says. Deterministic for a given thread count.
