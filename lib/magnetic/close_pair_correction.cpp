@@ -104,7 +104,7 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
                 if (r2 >= reach * reach * a * a) continue;
                 // The field the pair sits in: applied plus neighbours, less the partner's dipole.
                 const double inv_r2 = 1.0 / r2;
-                const double c = 1.0 / (4.0 * M_PI) * inv_r2 * std::sqrt(inv_r2);
+                const double c = kInvFourPi * inv_r2 * std::sqrt(inv_r2);  // 1 / (4 pi r^3)
                 const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
                 const Vec3 from_j = dipole_field(mj, d, dot(mj, d), inv_r2, c);
                 const Vec3 from_i = dipole_field(mi, d, dot(mi, d), inv_r2, c);

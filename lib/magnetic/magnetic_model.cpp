@@ -11,8 +11,6 @@
 namespace mrjam {
 namespace {
 
-constexpr double kInvFourPi = 1.0 / (4.0 * M_PI);
-
 // The moment a grain takes in local field h: permanent part plus the induced part, capped.
 inline Vec3 moment_in(const Particles& p, std::size_t i, const Vec3& h) {
     Vec3 induced = h * p.induced_coefficient[i];

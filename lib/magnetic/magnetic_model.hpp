@@ -9,6 +9,7 @@
 // no less defensible than the source's ad hoc cap, and exact in the linear range the tests probe).
 // Pair force (eq. 4.8) with rhat from j to i, evaluated once per pair and applied to both grains;
 // torque on grains with a permanent moment, m x B_local (eq. 4.9).
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -20,6 +21,7 @@
 namespace mrjam {
 
 inline constexpr double kMu0 = 1.25663706212e-6;  // vacuum permeability, T m / A
+inline constexpr double kInvFourPi = 1.0 / (4.0 * M_PI);
 
 // The field of dipole m at separation d from it (H, A/m), given m.d, inv_r2 = 1/|d|^2 and
 // c = 1/(4 pi |d|^3): (3 d (m.d)/|d|^2 - m) c. Even in d, so the same for either end of a pair.
