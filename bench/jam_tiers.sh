@@ -13,6 +13,8 @@
 # (model/magnetic_update_interval), naming the runs after it (docs/jam.md, "Held magnetic forces").
 # LOOKUP=K looks the carrier flow up at the grains every K steps (model/flow_lookup_interval),
 # naming the runs after it.
+# SLAB=K sets the slab's thickness to K largest-grain diameters (model/slab_thickness_diameters),
+# naming the runs after it (docs/jam.md, "A 2-diameter slab").
 #
 # Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
 # (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it. FINE=quick adds
@@ -46,7 +48,8 @@ for c in "${cases[@]}"; do
     [[ -n ${YOUNGS:-} ]] && name="${c}_${TIER}_E${YOUNGS// /}_s$s"
     [[ -n ${HOLD:-} ]] && name="${name%_s$s}_hold${HOLD}_s$s"
     [[ -n ${LOOKUP:-} ]] && name="${name%_s$s}_lookup${LOOKUP}_s$s"
-    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" "${YOUNGS:-}" "${HOLD:-}" "${LOOKUP:-}" <<'PY'
+    [[ -n ${SLAB:-} ]] && name="${name%_s$s}_slab${SLAB}_s$s"
+    python3 - "$HERE/examples/$c.json" "$OUT/$name.json" "$s" "$OUT/$name" "${YOUNGS:-}" "${HOLD:-}" "${LOOKUP:-}" "${SLAB:-}" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
 scene["seed"] = int(sys.argv[3])
@@ -57,6 +60,8 @@ if sys.argv[6]:
     scene.setdefault("model", {})["magnetic_update_interval"] = int(sys.argv[6])
 if sys.argv[7]:
     scene.setdefault("model", {})["flow_lookup_interval"] = int(sys.argv[7])
+if sys.argv[8]:
+    scene.setdefault("model", {})["slab_thickness_diameters"] = float(sys.argv[8])
 json.dump(scene, open(sys.argv[2], "w"), indent=1)
 PY
     jobs+=("$name")
