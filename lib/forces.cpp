@@ -17,7 +17,7 @@ struct ThreadBuffers {
 };
 
 // One grain's touching list entries, found by grain_contacts' first pass. The top bit marks a
-// contact that starts this step.
+// contact that starts this step (a list of 2^31 pairs would need 96 GB of history alone).
 constexpr std::uint32_t kNewContact = 1u << 31;
 
 std::vector<std::uint32_t>& touching_entries() {
@@ -70,9 +70,9 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
         const Vec3 xi = x[i];
         const double ri = radius[i];
         const bool frozen_i = raft[i] >= 0;
-        // First pass: which listed pairs touch. Written without a branch on the distance: about
-        // a third of the Verlet list touches in a dense flow, at random, so a branch there was
-        // mispredicted about once per contact and emptied the pipeline the contact law needs.
+        // First pass: which listed pairs touch, with each pair's history prefetched. A dense flow
+        // touches about a third of its Verlet list, at random, and the contact law waiting for
+        // that history line was the pass's one stall (docs/benchmarks.md, 2026-12-04).
         const std::uint32_t k0 = offsets[i], k1 = offsets[i + 1];
         if (entries.size() < k1 - k0) entries.resize(k1 - k0);
         std::uint32_t* __restrict found = entries.data();
