@@ -18,6 +18,7 @@
 
 #include "contact/material.hpp"
 #include "contact/restitution.hpp"
+#include "forces.hpp"
 #include "integrator.hpp"
 #include "system.hpp"
 
@@ -691,6 +692,44 @@ TEST_CASE("contact: cohesive contacts settle where Hertz balances cohesion") {
         CHECK(relative_error(st.overlap, d_eq) < 1e-6);
         CHECK(st.speed < 1e-12);
     }
+}
+
+// The tangential spring is the memory of one contact: a pair that parts and touches again must
+// start from no displacement, whether or not it stayed in the Verlet list in between (the force
+// pass marks such a contact as new when it finds the pair touching again).
+TEST_CASE("contact: a pair that parts and touches again starts with no tangential memory") {
+    const Material m = grain_material(0.5, 1.0);  // friction 1: the spring sticks, never slides
+    const double r = 5e-4, overlap = 1e-2 * r;
+    auto pair_system = [&] {
+        System s = empty_system({m}, 0.02);
+        s.dt = 1e-6;
+        s.particles.add({-r + overlap / 2, 0, 0}, r, m.density, 0);
+        s.particles.add({r - overlap / 2, 0, 0}, r, m.density, 0);
+        s.particles.velocity[0] = {0, 1e-5, 0};  // slow enough that 200 steps stay below the cone
+        prepare(s);
+        return s;
+    };
+    // prepare() evaluates the forces with dt = 0; the first step of a contact is the next pass.
+    System fresh = pair_system();
+    compute_forces(fresh);
+    const double first_touch = fresh.particles.force[0].y;
+
+    System s = pair_system();
+    for (int k = 0; k < 200; ++k) compute_forces(s);
+    const double remembered = s.particles.force[0].y;
+    // 200 steps of stick stretch the spring 200 times one step's (the dashpot's share is the
+    // same at every step): the memory is real, and it stayed below Coulomb's cap.
+    CHECK(std::fabs(remembered) > 5 * std::fabs(first_touch));
+    CHECK(std::fabs(remembered) < m.friction * std::fabs(s.particles.force[0].x));
+
+    const Vec3 touching_at = s.particles.position[1];
+    s.particles.position[1].x += 2 * overlap;  // part by one overlap: still a listed pair
+    compute_forces(s);
+    CHECK(norm(s.particles.force[0]) == 0);
+    s.particles.position[1] = touching_at;  // and touch again where it was
+    compute_forces(s);
+    CHECK(s.particles.force[0].y == first_touch);
+    CHECK(s.particles.force[0].x == fresh.particles.force[0].x);
 }
 
 }  // TEST_SUITE("physics")
