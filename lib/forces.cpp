@@ -70,9 +70,9 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
         const Vec3 xi = x[i];
         const double ri = radius[i];
         const bool frozen_i = raft[i] >= 0;
-        // First pass: which listed pairs touch, with each pair's history prefetched. A dense flow
-        // touches about a third of its Verlet list, at random, and the contact law waiting for
-        // that history line was the pass's one stall (docs/benchmarks.md, 2026-12-04).
+        // First pass: which listed pairs touch, with each pair's history prefetched; the contact
+        // law waiting for that history line was the pass's one stall (docs/benchmarks.md,
+        // "The contact pass's one stall").
         const std::uint32_t k0 = offsets[i], k1 = offsets[i + 1];
         if (entries.size() < k1 - k0) entries.resize(k1 - k0);
         std::uint32_t* __restrict found = entries.data();
