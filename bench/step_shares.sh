@@ -6,9 +6,14 @@
 #
 #   bash bench/step_shares.sh build/mrjam out/x/checkpoint.mrjam [seconds=30]
 set -euo pipefail
+if [[ $# -lt 2 || ! -x $1 || ! -f $2 ]]; then
+  echo "usage: bash bench/step_shares.sh MRJAM CHECKPOINT [seconds]: MRJAM a built mrjam, CHECKPOINT a jam run's checkpoint.mrjam (Ctrl-C a run to get one)" >&2
+  exit 2
+fi
 MRJAM=$(realpath "$1")
 CHECKPOINT=$(realpath "$2")
 SECONDS_RUN=${3:-30}
+[[ $SECONDS_RUN =~ ^[1-9][0-9]*$ ]] || { echo "seconds must be a whole number of at least 1, not '$SECONDS_RUN'" >&2; exit 2; }
 command -v perf > /dev/null || { echo "needs perf (apt-get install linux-perf)" >&2; exit 2; }
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT

@@ -83,7 +83,7 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             const std::uint32_t before = touching[k];
             if (now != before) touching[k] = static_cast<std::uint8_t>(now);  // write only on change
             __builtin_prefetch(&history[k]);
-            found[count] = k | ((now & (before ^ 1u)) << 31);
+            found[count] = k | (kNewContact * (now & (before ^ 1u)));
             count += now;
         }
         Vec3 fi{}, ti{};  // this grain's sums, written once after its pairs

@@ -695,8 +695,8 @@ TEST_CASE("contact: cohesive contacts settle where Hertz balances cohesion") {
 }
 
 // The tangential spring is the memory of one contact: a pair that parts and touches again must
-// start from no displacement, whether or not it stayed in the Verlet list in between (the force
-// pass marks such a contact as new when it finds the pair touching again).
+// start from no displacement. Here the pair stays in the Verlet list while apart, so it is the
+// force pass that must mark the contact as new when it finds the pair touching again.
 TEST_CASE("contact: a pair that parts and touches again starts with no tangential memory") {
     const Material m = grain_material(0.5, 1.0);  // friction 1: the spring sticks, never slides
     const double r = 5e-4, overlap = 1e-2 * r;
