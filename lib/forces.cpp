@@ -130,6 +130,7 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
     const Particles& p = s.particles;
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
         Wall& wall = s.walls[w];
+        Vec3 on_wall{};  // summed here, not in the threads' small wall buffers (they may share a line)
         auto contact = [&](std::size_t i) {
             double overlap;
             ContactInput in;
@@ -152,8 +153,8 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], wall.material), in, wall.history[i], s.dt, out);
             f[i] += out.force_on_i;
             t[i] += out.torque_on_i;
-            wall_force[w] -= out.force_on_i;
             if (p.raft[i] >= 0) raft_force[p.raft[i]] += out.force_on_i;
+            on_wall -= out.force_on_i;
             ++stats.contacts;
             const double ratio = overlap / ri;
             if (ratio > stats.max_overlap_ratio) {
@@ -169,6 +170,7 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
         } else {
             for (std::size_t i = begin; i < end; ++i) contact(i);
         }
+        wall_force[w] += on_wall;
     }
 }
 
@@ -251,9 +253,14 @@ void compute_all(System& s, bool zero_first) {
         // per owner is roughly uniform for dense packings.
         const std::size_t begin = n * tid / nthreads, end = n * (tid + 1) / nthreads;
         if (s.physics.contact) {
-            if (s.domain.lees_edwards) grain_contacts<Rolling, Cohesion, true>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
-            else grain_contacts<Rolling, Cohesion, false>(s, f, t, b.stats[tid], b.raft_force[tid], begin, end);
-            wall_contacts<Rolling, Cohesion>(s, f, t, b.stats[tid], wall_force[tid], b.raft_force[tid], begin, end);
+            // Counted on this thread's stack: the threads' counts side by side in one cache line
+            // cost a quarter of a two-thread step whenever the compiler left them in memory
+            // (docs/benchmarks.md, "Counts that shared a cache line").
+            ContactStats stats;
+            if (s.domain.lees_edwards) grain_contacts<Rolling, Cohesion, true>(s, f, t, stats, b.raft_force[tid], begin, end);
+            else grain_contacts<Rolling, Cohesion, false>(s, f, t, stats, b.raft_force[tid], begin, end);
+            wall_contacts<Rolling, Cohesion>(s, f, t, stats, wall_force[tid], b.raft_force[tid], begin, end);
+            b.stats[tid] = stats;
         }
         if (s.physics.drag || s.physics.gravity) body_forces(s, lookup, f, begin, end);
 #pragma omp barrier
