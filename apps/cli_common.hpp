@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "jam/proportion_interval.hpp"
+
 namespace mrjam::cli {
 
 // Exit codes: 0 done, 1 internal or I/O error, 2 bad input (scene or command line),
@@ -13,5 +15,8 @@ inline constexpr int kExitBadInput = 2;
 
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);
+
+// A probability's interval in a report: [low, high].
+inline nlohmann::json interval_json(const ProportionInterval& ci) { return nlohmann::json::array({ci.low, ci.high}); }
 
 }  // namespace mrjam::cli

@@ -199,6 +199,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
                             {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
                             {"B_on_axis", field_on_axis},
                             {"jam_probability", probability}, {"arrest_probability", static_cast<double>(arrests) / seeds},
+                            {"jam_probability_95ci", interval_json(wilson_interval(jams, seeds))},
+                            {"arrest_probability_95ci", interval_json(wilson_interval(arrests, seeds))},
                             {"runs", runs},
                             {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
                             {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},

@@ -147,6 +147,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         report["seeds"] = runs;
         report["results"]["jam_probability"] = static_cast<double>(jams) / seeds;
         report["results"]["arrest_probability"] = static_cast<double>(arrest_times.size()) / seeds;
+        report["results"]["jam_probability_95ci"] = interval_json(wilson_interval(jams, seeds));
+        report["results"]["arrest_probability_95ci"] = interval_json(wilson_interval(static_cast<int>(arrest_times.size()), seeds));
         report["results"]["time_to_arrest_mean_s"] = arrest_times.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean);
         report["results"]["time_to_arrest_std_s"] =
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));
@@ -162,8 +164,9 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         if (!args->quiet) {
             const nlohmann::json& res = report["results"];
             std::cerr << "[jam] " << res["outcome"].get<std::string>() << " (jam probability "
-                      << res["jam_probability"].get<double>() << ", arrest probability "
-                      << res["arrest_probability"].get<double>() << ")";
+                      << res["jam_probability"].get<double>() << ", 95 % interval "
+                      << res["jam_probability_95ci"][0].get<double>() << " to " << res["jam_probability_95ci"][1].get<double>()
+                      << "; arrest probability " << res["arrest_probability"].get<double>() << ")";
             // A flow the field did not stop: how much of it still got through at the end.
             if (res["jammed"] == false && res["flux_share_last_window"].is_number())
                 std::cerr << "; grain flux over the last " << res["flux_share_with_field"]["window_s"].get<double>() * 1e3

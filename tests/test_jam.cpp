@@ -664,6 +664,9 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     CHECK(row["constriction"] == "30x");
     CHECK(row["mean_B_active_T"].get<double>() > 0.05);
     CHECK(row["jam_probability"].is_number());
+    REQUIRE(row["jam_probability_95ci"].size() == 2);  // brackets the seeds' share
+    CHECK(row["jam_probability_95ci"][0].get<double>() <= row["jam_probability"].get<double>());
+    CHECK(row["jam_probability_95ci"][1].get<double>() >= row["jam_probability"].get<double>());
     CHECK(row["open_flow_rate_m3_s"].get<double>() > 0);
     CHECK(std::filesystem::exists(dir.file("design/30x/field.map")));
     CHECK(report["results"].contains("widest_reliable_constriction"));

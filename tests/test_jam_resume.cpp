@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <utility>
 
 #include "test_support.hpp"
 
@@ -294,6 +295,16 @@ TEST_CASE("jam: a hold keeps the field on after the arrest before the release te
     CHECK((res["outcome"] == "fail-no-hold") == !held);
     CHECK(res["jam_probability"].get<double>() == (held ? 1.0 : 0.0));
     CHECK(res["arrest_probability"].get<double>() == 1.0);
+    // One seed says little: Wilson's 95 % interval for 1 of 1 is [1 / (1 + z^2), 1], for 0 of 1
+    // [0, z^2 / (1 + z^2)].
+    const double z2 = 1.959963984540054 * 1.959963984540054;
+    const json one_of_one = json::array({1 / (1 + z2), 1.0}), none_of_one = json::array({0.0, z2 / (1 + z2)});
+    for (const auto& [key, expected] : {std::pair{"arrest_probability_95ci", one_of_one},
+                                        std::pair{"jam_probability_95ci", held ? one_of_one : none_of_one}}) {
+        CAPTURE(key);
+        REQUIRE(res[key].size() == 2);
+        for (int b = 0; b < 2; ++b) CHECK(res[key][b].get<double>() == doctest::Approx(expected[b].get<double>()).epsilon(1e-12));
+    }
     REQUIRE(a["seeds"].size() == 1);
     CHECK(a["seeds"][0]["stops_flow"] == held);
     CHECK(a["seeds"][0]["hold"] == res["hold"]);
