@@ -10,10 +10,16 @@
 namespace mrjam {
 namespace {
 
+// A raft's force summed by one thread, a cache line to itself: the threads add contact forces to
+// their own sums of the same few rafts, and sums side by side would share a line between cores.
+struct alignas(64) RaftSum {
+    Vec3 force;
+};
+
 struct ThreadBuffers {
     PerThreadSums force, torque;
     std::vector<ContactStats> stats;
-    std::vector<std::vector<Vec3>> raft_force;
+    std::vector<std::vector<RaftSum>> raft_force;
 };
 
 // One grain's touching list entries, found by grain_contacts' first pass. The top bit marks a
@@ -44,7 +50,7 @@ void merge_stats(ContactStats& into, const ContactStats& s) {
 // the ordinary force loop does no work for it).
 template <RollingModel Rolling, CohesionModel Cohesion, bool Sliding>
 void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactStats& stats,
-                    std::vector<Vec3>& raft_force, std::size_t begin, std::size_t end) {
+                    std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     NeighborList& list = s.contacts;
     const double dt = s.dt;
@@ -108,8 +114,8 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
             f[j] -= out.force_on_i;
             ti += out.torque_on_i;
             t[j] += out.torque_on_j;
-            if (frozen_i) raft_force[raft[i]] += out.force_on_i;
-            if (frozen_j) raft_force[raft[j]] -= out.force_on_i;
+            if (frozen_i) raft_force[raft[i]].force += out.force_on_i;
+            if (frozen_j) raft_force[raft[j]].force -= out.force_on_i;
             ++stats.contacts;
             const double ratio = in.overlap / std::min(ri, rj);
             if (ratio > stats.max_overlap_ratio) {
@@ -126,7 +132,7 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
 
 template <RollingModel Rolling, CohesionModel Cohesion>
 void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& wall_force,
-                   std::vector<Vec3>& raft_force, std::size_t begin, std::size_t end) {
+                   std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
         Wall& wall = s.walls[w];
@@ -153,7 +159,7 @@ void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], wall.material), in, wall.history[i], s.dt, out);
             f[i] += out.force_on_i;
             t[i] += out.torque_on_i;
-            if (p.raft[i] >= 0) raft_force[p.raft[i]] += out.force_on_i;
+            if (p.raft[i] >= 0) raft_force[p.raft[i]].force += out.force_on_i;
             on_wall -= out.force_on_i;
             ++stats.contacts;
             const double ratio = overlap / ri;
@@ -232,7 +238,7 @@ void compute_all(System& s, bool zero_first) {
     b.force.resize(nthreads);
     b.torque.resize(nthreads);
     b.stats.assign(nthreads, ContactStats{});
-    b.raft_force.assign(nthreads, std::vector<Vec3>(s.rafts.size()));
+    b.raft_force.assign(nthreads, std::vector<RaftSum>(s.rafts.size()));
     std::vector<std::vector<Vec3>> wall_force(nthreads, std::vector<Vec3>(s.walls.size()));
     for (auto& w : s.walls) w.history.resize(n);
     const FlowLookup lookup = flow_lookup_this_step(s);
@@ -284,7 +290,7 @@ void compute_all(System& s, bool zero_first) {
     }
     for (std::size_t r = 0; r < s.rafts.size(); ++r) {
         s.rafts[r].force = Vec3{};
-        for (int tid = 0; tid < nthreads; ++tid) s.rafts[r].force += b.raft_force[tid][r];
+        for (int tid = 0; tid < nthreads; ++tid) s.rafts[r].force += b.raft_force[tid][r].force;
     }
     if (s.physics.pair_damping > 0) pair_damping_forces(s);
 }
