@@ -128,7 +128,8 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
         // identical, bit for bit.
         json ra = comparable(a)["results"], rb = comparable(b)["results"];
         if (c.seeds == 1)
-            for (const char* key : {"jam_probability", "time_to_arrest_mean_s", "time_to_arrest_std_s"}) {
+            for (const char* key : {"jam_probability", "jam_probability_95ci", "arrest_probability_95ci",
+                                    "time_to_arrest_mean_s", "time_to_arrest_std_s"}) {
                 ra.erase(key);
                 rb.erase(key);
             }
