@@ -2,6 +2,7 @@
 // under this field, how fast, and does it let go when the field is switched off?
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -164,9 +165,10 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         if (!args->quiet) {
             const nlohmann::json& res = report["results"];
             std::cerr << "[jam] " << res["outcome"].get<std::string>() << " (jam probability "
-                      << res["jam_probability"].get<double>() << ", 95 % interval "
+                      << res["jam_probability"].get<double>() << ", 95 % interval " << std::fixed << std::setprecision(2)
                       << res["jam_probability_95ci"][0].get<double>() << " to " << res["jam_probability_95ci"][1].get<double>()
-                      << "; arrest probability " << res["arrest_probability"].get<double>() << ")";
+                      << std::defaultfloat << std::setprecision(6) << "; arrest probability "
+                      << res["arrest_probability"].get<double>() << ")";
             // A flow the field did not stop: how much of it still got through at the end.
             if (res["jammed"] == false && res["flux_share_last_window"].is_number())
                 std::cerr << "; grain flux over the last " << res["flux_share_with_field"]["window_s"].get<double>() * 1e3
