@@ -48,8 +48,7 @@ struct Raft {
 };
 
 // Contact statistics of the last force evaluation.
-// One per thread in the contact passes: a cache line each, so the threads' counts never share one.
-struct alignas(64) ContactStats {
+struct ContactStats {
     std::size_t contacts = 0;
     double max_overlap_ratio = 0;  // overlap / smaller radius
     std::size_t worst_i = 0, worst_j = 0;
