@@ -47,10 +47,11 @@ void merge_stats(ContactStats& into, const ContactStats& s) {
 }
 
 // Sliding: Lees-Edwards images, whose velocity enters the contact velocity (a template flag, so
-// the ordinary force loop does no work for it).
+// the ordinary force loop does no work for it). Both contact passes stay out of line so that
+// `perf` names them (bench/step_shares.sh); a call per thread per step costs nothing measurable.
 template <RollingModel Rolling, CohesionModel Cohesion, bool Sliding>
-void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactStats& stats,
-                    std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
+[[gnu::noinline]] void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactStats& stats,
+                                      std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     NeighborList& list = s.contacts;
     const double dt = s.dt;
@@ -131,8 +132,8 @@ void grain_contacts(System& s, Vec3* __restrict f, Vec3* __restrict t, ContactSt
 }
 
 template <RollingModel Rolling, CohesionModel Cohesion>
-void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& wall_force,
-                   std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
+[[gnu::noinline]] void wall_contacts(System& s, Vec3* f, Vec3* t, ContactStats& stats, std::vector<Vec3>& wall_force,
+                                     std::vector<RaftSum>& raft_force, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
         Wall& wall = s.walls[w];
