@@ -173,7 +173,25 @@ template <RollingModel Rolling, CohesionModel Cohesion>
         };
         if (wall.near_grains_hold(p.size())) {
             const auto& near = wall.near.index;
-            for (auto k = std::lower_bound(near.begin(), near.end(), begin); k != near.end() && *k < end; ++k) contact(*k);
+            // The near grains lie too far apart in the grains' arrays for the hardware's
+            // prefetch: what the contact law reads is fetched a few near grains ahead, which
+            // takes a sixth off the pass (docs/benchmarks.md, "Wall contacts prefetched").
+            constexpr std::ptrdiff_t ahead = 8;
+            for (auto k = std::lower_bound(near.begin(), near.end(), begin); k != near.end() && *k < end; ++k) {
+                if (near.end() - k > ahead) {
+                    const std::uint32_t g = k[ahead];
+                    __builtin_prefetch(&p.position[g]);
+                    __builtin_prefetch(&p.radius[g]);
+                    __builtin_prefetch(&p.velocity[g]);
+                    __builtin_prefetch(&p.angular_velocity[g]);
+                    __builtin_prefetch(&p.mass[g]);
+                    __builtin_prefetch(&p.raft[g]);
+                    __builtin_prefetch(&f[g]);
+                    __builtin_prefetch(&t[g]);
+                    __builtin_prefetch(&wall.history[g]);
+                }
+                contact(*k);
+            }
         } else {
             for (std::size_t i = begin; i < end; ++i) contact(i);
         }
