@@ -53,6 +53,34 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
     }
     return out;
 }
+
+// Keys of the two sub-scenes that the design sets itself for each constriction. Given anyway they
+// would be overwritten without a word, so they are refused with where the setting belongs.
+void refuse_keys_the_design_sets(const json& magnetics, const json& jam) {
+    if (magnetics.is_object()) {
+        if (magnetics.contains("state"))
+            throw SceneError("/magnetics/state", "the design solves the magnet's ON state; remove this key");
+        if (magnetics.contains("output"))
+            throw SceneError("/magnetics/output", "the design writes each solve under output_directory/<constriction>/magnetics; "
+                                                  "remove this key (set the design's output_directory instead)");
+        if (magnetics.contains("valve") && magnetics["valve"].is_object())
+            for (const char* k : {"constriction", "constriction_diameter"})
+                if (magnetics["valve"].contains(k))
+                    throw SceneError(std::string("/magnetics/valve/") + k,
+                                     "the design takes its constrictions from its own `constrictions` list; remove this key");
+    }
+    if (jam.is_object()) {
+        if (jam.contains("field"))
+            throw SceneError("/jam/field", "the design runs the jam predictor in the field it solved for each constriction; "
+                                           "remove this key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
+        if (jam.contains("valve"))
+            throw SceneError("/jam/valve", "the design's valve is magnetics/valve, one valve for both models; move these keys "
+                                           "there (the tube lengths modelled are jam/model/upstream_length and downstream_length)");
+        if (jam.contains("output"))
+            throw SceneError("/jam/output", "the design writes each jam run under output_directory/<constriction>/jam; "
+                                            "remove this key (set the design's output_directory instead)");
+    }
+}
 }  // namespace
 
 void add_design_command(CLI::App& app, int& exit_status) {
@@ -79,6 +107,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
         const int seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
         const fs::path out_dir = root.text("output_directory", "out/design");
         root.finish();
+        refuse_keys_the_design_sets(magnetics_block, jam_block);
         const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {

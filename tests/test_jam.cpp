@@ -702,6 +702,24 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     const Result bad = mrjam_test::mrjam(dir, "design " + quote(dir.file("bad.json")) + " --quiet");
     CHECK(bad.exit_code == 2);
     CHECK(bad.err.find("/magnet") != std::string::npos);
+
+    // Keys the design sets for each constriction itself are refused, not silently overwritten.
+    for (const auto& [block, key, path] :
+         std::vector<std::tuple<std::string, json, std::string>>{
+             {"jam", {{"field", {{"type", "uniform"}, {"flux_density", "500 mT"}}}}, "/jam/field"},
+             {"jam", {{"valve", {{"orifice", "slot"}}}}, "/jam/valve"},
+             {"jam", {{"output", {{"directory", "elsewhere"}}}}, "/jam/output"},
+             {"magnetics", {{"state", "off"}}, "/magnetics/state"},
+             {"magnetics", {{"valve", {{"constriction", "40x"}}}}, "/magnetics/valve/constriction"}}) {
+        json overridden = design;
+        overridden[block].update(key);
+        write_text(dir.file("overridden.json"), overridden.dump());
+        const Result refused = mrjam_test::mrjam(dir, "design " + quote(dir.file("overridden.json")) + " --quiet");
+        CAPTURE(path);
+        CAPTURE(refused.err);
+        CHECK(refused.exit_code == 2);
+        CHECK(refused.err.find(path) != std::string::npos);
+    }
 }
 
 }  // TEST_SUITE
