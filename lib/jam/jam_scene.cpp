@@ -98,6 +98,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // are taken out and none come in, as in a DEM run whose grains were "initialized ... inside
     // of the constrictions" (section 3.4.4) with an open outlet: the upstream end drains.
     out.batch_supply = model.choice("supply", {"periodic", "batch"}, "periodic") == "batch";
+    // The modelled tube's length may be given in either block, but not in both: one would be
+    // ignored.
+    for (const char* k : {"upstream_length", "downstream_length"})
+        if (model.has(k) && scene["valve"].is_object() && scene["valve"].contains(k))
+            throw SceneError(std::string("/model/") + k,
+                             std::string("also given as valve/") + k + "; give the modelled tube's length once");
     model.finish();
 
     // The valve: the model's lengths replace the valve's own unless the valve gives them.
