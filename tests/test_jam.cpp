@@ -339,7 +339,8 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     // A modelled tube that ends inside the taper: the model block's length is named, not the valve's.
     refused("short_model", {{"model", {{"upstream_length", "0.5 mm"}}}}, "/model/upstream_length");
     // The modelled tube's length given twice, in the model and the valve: one would be ignored.
-    refused("length_twice", {{"model", {{"downstream_length", "1 mm"}}}, {"valve", {{"constriction", "30x"}, {"downstream_length", "2 mm"}}}},
+    refused("length_twice",
+            {{"model", {{"downstream_length", "1 mm"}}}, {"valve", {{"constriction", "30x"}, {"downstream_length", "2 mm"}}}},
             "/model/downstream_length");
 }
 
