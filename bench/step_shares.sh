@@ -22,7 +22,7 @@ cd "$WORK"
 timeout -s INT "$SECONDS_RUN" perf record -q -o perf.data "$MRJAM" jam --resume checkpoint.mrjam --threads 1 --quiet > log 2>&1 || true
 perf report -i perf.data --no-children --sort symbol -n 2> /dev/null | python3 -c '
 import re, sys
-parts = {"grain contacts": 0, "wall contacts": 0, "kick": 0, "all": 0}
+parts = {"grain contacts": 0, "wall contacts": 0, "magnetic pairs": 0, "list builds": 0, "kick": 0, "all": 0}
 for line in sys.stdin:
     m = re.match(r"\s*[\d.]+%\s+(\d+)\s+\[\.\]\s+(.*)", line)
     if not m:
@@ -33,9 +33,15 @@ for line in sys.stdin:
         parts["grain contacts"] += n
     elif "wall_contacts" in name or "hertz_mindlin" in name or "Wall::touch" in name:
         parts["wall contacts"] += n
+    elif "pair_pass<" in name:
+        parts["magnetic pairs"] += n
+    elif "NeighborList::" in name or "fill_chunks" in name:
+        parts["list builds"] += n
     elif "kick_pass<true, true" in name:
         parts["kick"] += n
 if parts["kick"] == 0:
     sys.exit("no kick samples: the run ended before it stepped")
+if parts["grain contacts"] == 0:
+    sys.exit("no samples named grain_contacts: the build inlined the contact pass (lib/forces.cpp keeps it out of line)")
 print(", ".join("%s %.2f" % (k, v / parts["kick"]) for k, v in parts.items() if k != "kick"), "samples per kick sample")
 '
