@@ -54,32 +54,12 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
     return out;
 }
 
-// Keys of the two sub-scenes that the design sets itself for each constriction. Given anyway they
-// would be overwritten without a word, so they are refused with where the setting belongs.
-void refuse_keys_the_design_sets(const json& magnetics, const json& jam) {
-    if (magnetics.is_object()) {
-        if (magnetics.contains("state"))
-            throw SceneError("/magnetics/state", "the design solves the magnet's ON state; remove this key");
-        if (magnetics.contains("output"))
-            throw SceneError("/magnetics/output", "the design writes each solve under output_directory/<constriction>/magnetics; "
-                                                  "remove this key (set the design's output_directory instead)");
-        if (magnetics.contains("valve") && magnetics["valve"].is_object())
-            for (const char* k : {"constriction", "constriction_diameter"})
-                if (magnetics["valve"].contains(k))
-                    throw SceneError(std::string("/magnetics/valve/") + k,
-                                     "the design takes its constrictions from its own `constrictions` list; remove this key");
-    }
-    if (jam.is_object()) {
-        if (jam.contains("field"))
-            throw SceneError("/jam/field", "the design runs the jam predictor in the field it solved for each constriction; "
-                                           "remove this key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
-        if (jam.contains("valve"))
-            throw SceneError("/jam/valve", "the design's valve is magnetics/valve, one valve for both models; move these keys "
-                                           "there (the tube lengths modelled are jam/model/upstream_length and downstream_length)");
-        if (jam.contains("output"))
-            throw SceneError("/jam/output", "the design writes each jam run under output_directory/<constriction>/jam; "
-                                            "remove this key (set the design's output_directory instead)");
-    }
+// Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
+// would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
+void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
+                    const std::string& fix) {
+    if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);
+    scene[key] = std::move(value);
 }
 }  // namespace
 
@@ -107,7 +87,6 @@ void add_design_command(CLI::App& app, int& exit_status) {
         const int seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
         const fs::path out_dir = root.text("output_directory", "out/design");
         root.finish();
-        refuse_keys_the_design_sets(magnetics_block, jam_block);
         const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
@@ -119,18 +98,28 @@ void add_design_command(CLI::App& app, int& exit_status) {
         // The scenes of each constriction; the jam scene's field is the map solved for it.
         auto magnetics_scene = [&](const fs::path& dir, double diameter) {
             json mscene = magnetics_block;
-            mscene["valve"]["constriction_diameter"] = diameter;
-            mscene["valve"].erase("constriction");
-            mscene["state"] = "on";
-            mscene["output"] = {{"directory", (dir / "magnetics").string()}};
+            const std::string from_list = "the design takes its constrictions from its own `constrictions` list; remove this key";
+            json& valve = mscene["valve"];
+            if (valve.is_object() && valve.contains("constriction")) throw SceneError("/magnetics/valve/constriction", from_list);
+            set_design_key(valve, "/magnetics/valve", "constriction_diameter", diameter, from_list);
+            set_design_key(mscene, "/magnetics", "state", "on", "the design solves the magnet's ON state; remove this key");
+            set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
+                           "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
+                           "key (set the design's output_directory instead)");
             return magnetics::read_magnetics_scene(mscene, magnetics_tier);
         };
-        auto jam_scene = [&](const fs::path& dir, const json& valve, const json& field) {
+        auto jam_scene = [&](const fs::path& dir, json valve, const json& field) {
             json jscene = jam_block;
-            jscene["valve"] = valve;
-            for (const char* k : {"upstream_length", "downstream_length"}) jscene["valve"].erase(k);
-            jscene["field"] = field;
-            jscene["output"] = {{"directory", (dir / "jam").string()}};
+            for (const char* k : {"upstream_length", "downstream_length"}) valve.erase(k);
+            set_design_key(jscene, "/jam", "valve", std::move(valve),
+                           "the design's valve is magnetics/valve, one valve for both models; move these keys there "
+                           "(the tube lengths modelled are jam/model/upstream_length and downstream_length)");
+            set_design_key(jscene, "/jam", "field", field,
+                           "the design runs the jam predictor in the field it solved for each constriction; remove this "
+                           "key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
+            set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
+                           "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
+                           "(set the design's output_directory instead)");
             return read_jam_scene(jscene, args->fidelity, base);
         };
         // Every scene is checked before the first solve: a bad jam block must not cost a field solve.
