@@ -11,7 +11,7 @@ using namespace mrjam;
 TEST_SUITE("unit") {
 
 TEST_CASE("wilson interval: its bounds solve the score equation, and it stays in [0, 1]") {
-    const double z = 1.959963984540054;
+    const double z = kZ95;
     for (int n = 1; n <= 12; ++n)
         for (int k = 0; k <= n; ++k) {
             CAPTURE(n);
@@ -35,7 +35,7 @@ TEST_CASE("wilson interval: its bounds solve the score equation, and it stays in
 }
 
 TEST_CASE("wilson interval: none or all of n has the closed form z^2 / (n + z^2); no seeds say nothing") {
-    const double z2 = 1.959963984540054 * 1.959963984540054;
+    const double z2 = kZ95 * kZ95;
     for (const int n : {1, 3, 8, 30}) {
         CAPTURE(n);
         CHECK(wilson_interval(0, n).low == 0.0);

@@ -13,8 +13,11 @@ struct ProportionInterval {
     double low = 0, high = 1;
 };
 
-// z = 1.96: two-sided 95 %. n = 0 says nothing: [0, 1].
-inline ProportionInterval wilson_interval(int successes, int trials, double z = 1.959963984540054) {
+// The standard normal quantile of a two-sided 95 % interval.
+inline constexpr double kZ95 = 1.959963984540054;
+
+// n = 0 says nothing: [0, 1].
+inline ProportionInterval wilson_interval(int successes, int trials, double z = kZ95) {
     if (trials <= 0) return {};
     const double n = trials, p = static_cast<double>(successes) / n, z2 = z * z;
     const double scale = 1.0 / (1.0 + z2 / n);
