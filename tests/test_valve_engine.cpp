@@ -129,6 +129,26 @@ TEST_CASE("valve flow, source reading: the bore profile up to the orifice, the r
     CHECK(flow.flow_rate_at(0.0) > flow.reference_flow_rate());
 }
 
+TEST_CASE("valve flow, source reading with the mean throat: the source's field, the throat carrying the bore's flow") {
+    ValveGeometry v;
+    const double U = 0.273;
+    const ValveFlow flow(v, U, valve_flow_profile("source_mean_throat"));
+    const ValveFlow source(v, U);
+    CHECK(valve_flow_profile_name(flow.profile()) == "source_mean_throat");
+    const double rt = v.throat_radius();
+    const double mid_taper = v.taper_start_z() + 0.5 * v.taper_length;
+    // Up to the orifice, the source's field point for point.
+    for (double z : {-3e-3, mid_taper})
+        for (double rho : {0.0, 0.5 * rt, rt, 0.5 * (rt + v.passage_radius(z)), 0.999 * v.passage_radius(z)})
+            CHECK(flow.velocity({0, rho, z}, 0).z == source.velocity({0, rho, z}, 0).z);
+    // In the straight throat a plug that carries the bore's flow rate (by quadrature), slower
+    // than the source's (r_b / r_t)^2 U, which carries more than the bore.
+    CHECK(flow.velocity({0, 0, 0}, 0).z == flow.velocity({0.99 * rt, 0, 0}, 0).z);
+    CHECK(flow.flow_rate_at(0.0) == rel(flow.reference_flow_rate()).epsilon(1e-6));
+    CHECK(flow.reference_flow_rate() == rel(source.reference_flow_rate()));
+    CHECK(flow.velocity({0, 0, 0}, 0).z < source.velocity({0, 0, 0}, 0).z);
+}
+
 }  // TEST_SUITE
 
 namespace {

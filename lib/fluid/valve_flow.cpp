@@ -10,9 +10,9 @@ Vec3 ValveFlow::unscaled(const Vec3& x) const {
     const double r = std::hypot(x.x, x.y);
     if (r >= R) return {};
     const double rb = valve_.bore_radius(), rt = valve_.throat_radius();
-    if (profile_ == Profile::source) {
+    if (profile_ == Profile::source || profile_ == Profile::source_mean_throat) {
         const bool in_throat = x.z >= -0.5 * valve_.throat_length && x.z <= valve_.throat_end_z();
-        if (in_throat) return {0, 0, speed_ * (rb / rt) * (rb / rt)};
+        if (in_throat) return {0, 0, throat_speed_};
         return {0, 0, r <= rt ? speed_ : speed_ * (rb - r) / (rb - rt)};
     }
     if (profile_ == Profile::conserving) return self_similar(x, R, 0.0);
@@ -88,9 +88,12 @@ double ValveFlow::drag_factor(const Vec3& x) const {
     return drag_factors_[static_cast<std::size_t>(k)];
 }
 
-std::vector<std::string> valve_flow_profile_names() { return {"source", "conserving", "converging"}; }
+std::vector<std::string> valve_flow_profile_names() {
+    return {"source", "source_mean_throat", "conserving", "converging"};
+}
 
 ValveFlow::Profile valve_flow_profile(const std::string& name) {
+    if (name == "source_mean_throat") return ValveFlow::Profile::source_mean_throat;
     if (name == "conserving") return ValveFlow::Profile::conserving;
     if (name == "converging") return ValveFlow::Profile::converging;
     return ValveFlow::Profile::source;
@@ -98,6 +101,8 @@ ValveFlow::Profile valve_flow_profile(const std::string& name) {
 
 std::string valve_flow_profile_name(ValveFlow::Profile profile) {
     switch (profile) {
+        case ValveFlow::Profile::source_mean_throat:
+            return "source_mean_throat";
         case ValveFlow::Profile::conserving:
             return "conserving";
         case ValveFlow::Profile::converging:
