@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -14,9 +15,24 @@ nlohmann::json read_json_file(const std::string& path) {
     buffer << in.rdbuf();
     try {
         return nlohmann::json::parse(buffer.str());
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number out of range (1e999)
         throw SceneError(path, std::string("not valid JSON: ") + e.what());
     }
+}
+
+void prepare_output_file(const std::string& path, const std::string& option) {
+    namespace fs = std::filesystem;
+    if (path.empty()) throw SceneError(option, "is empty: give a file name such as report.json");
+    const fs::path p(path);
+    if (!p.has_filename() || fs::is_directory(p))
+        throw SceneError(option, path + " is a directory: give a file name such as " + (p / "report.json").string());
+    const fs::path dir = p.parent_path();
+    if (dir.empty()) return;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+        throw SceneError(option, "cannot create the directory " + dir.string() + " for " + path +
+                                     (ec ? " (" + ec.message() + ")" : std::string()) + ": choose another path");
 }
 
 }  // namespace mrjam::cli

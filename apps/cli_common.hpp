@@ -16,6 +16,11 @@ inline constexpr int kExitBadInput = 2;
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);
 
+// A report file named by a command-line option (`option`, e.g. "--report"): refused before any
+// work if it is empty, a directory or under a file; its directory is created. A long run must not
+// find out at its end that its report cannot be written.
+void prepare_output_file(const std::string& path, const std::string& option);
+
 // A probability's interval in a report: [low, high].
 inline nlohmann::json interval_json(const ProportionInterval& ci) { return nlohmann::json::array({ci.low, ci.high}); }
 

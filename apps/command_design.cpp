@@ -56,6 +56,18 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
 
 // Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
 // would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
+// Runs a block's scene reader and names its errors from the design file's root: "/jam/protocol/..."
+// rather than the block's own "/protocol/...".
+template <class Read>
+auto within_block(const std::string& block, Read&& read) {
+    try {
+        return read();
+    } catch (const SceneError& e) {
+        if (e.path().empty() || e.path()[0] != '/') throw;
+        throw SceneError(block + e.path(), std::string(e.what()).substr(e.path().size() + 2));
+    }
+}
+
 void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
                     const std::string& fix) {
     if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);
@@ -81,12 +93,18 @@ void add_design_command(CLI::App& app, int& exit_status) {
         root.text("description", "");
         const json& magnetics_block = design.contains("magnetics") ? root.raw("magnetics") : json::object();
         const json& jam_block = design.contains("jam") ? root.raw("jam") : json::object();
+        for (const auto& [key, block] : {std::pair{"/magnetics", &magnetics_block}, std::pair{"/jam", &jam_block}})
+            if (!block->is_object()) throw SceneError(key, std::string("must be a JSON object (a scene of `mrjam ") + (key + 1) + "`)");
+        if (magnetics_block.contains("valve") && !magnetics_block["valve"].is_object())
+            throw SceneError("/magnetics/valve", "must be a JSON object (the valve's keys)");
         const auto constrictions = read_constrictions(design.contains("constrictions") ? root.raw("constrictions")
                                                                                        : json::array({"20x", "30x", "40x"}));
         const double required = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
         const int seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
         const fs::path out_dir = root.text("output_directory", "out/design");
+        if (out_dir.empty()) throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
         root.finish();
+        prepare_output_file(args->report, "--report");
         const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
@@ -106,8 +124,9 @@ void add_design_command(CLI::App& app, int& exit_status) {
             set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
                            "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
                            "key (set the design's output_directory instead)");
-            return magnetics::read_magnetics_scene(mscene, magnetics_tier);
+            return within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
         };
+        json jam_inputs;  // the last jam scene built, as `mrjam jam --resume` reads it from a checkpoint
         auto jam_scene = [&](const fs::path& dir, json valve, const json& field) {
             json jscene = jam_block;
             for (const char* k : {"upstream_length", "downstream_length"}) valve.erase(k);
@@ -120,13 +139,26 @@ void add_design_command(CLI::App& app, int& exit_status) {
             set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
                            "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
                            "(set the design's output_directory instead)");
-            return read_jam_scene(jscene, args->fidelity, base);
+            jam_inputs = jscene;
+            return within_block("/jam", [&] { return read_jam_scene(jscene, args->fidelity, base); });
         };
         // Every scene is checked before the first solve: a bad jam block must not cost a field solve.
-        for (const auto& [name, diameter] : constrictions) {
-            const auto ms = magnetics_scene(out_dir / name, diameter);
-            jam_scene(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}});
-        }
+        for (std::size_t i = 0; i < constrictions.size(); ++i) try {
+                const auto& [name, diameter] = constrictions[i];
+                const auto ms = magnetics_scene(out_dir / name, diameter);
+                jam_scene(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}});
+            } catch (const SceneError& e) {
+                // A throat the valve or the grains cannot take is the list entry's fault.
+                const std::string& path = e.path();
+                if (path.ends_with("/valve/constriction_diameter"))
+                    throw SceneError("/constrictions/" + std::to_string(i),
+                                     std::string(e.what()).substr(path.size() + 2));
+                throw;
+            }
+        std::error_code made;
+        fs::create_directories(out_dir, made);
+        if (made || !fs::is_directory(out_dir))
+            throw SceneError("/output_directory", "cannot create " + out_dir.string() + ": choose another directory");
 
         const auto started = std::chrono::steady_clock::now();
         json rows = json::array();
@@ -178,11 +210,17 @@ void add_design_command(CLI::App& app, int& exit_status) {
                                         {"taper_middle_z_m", taper_middle_z}};
             int jams = 0, arrests = 0;
             json runs = json::array();
+            json first_report = nullptr;
             for (int k = 0; k < seeds; ++k) {
                 JamRunOptions options;
                 options.threads = args->threads;
                 options.progress = !args->quiet;
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
+                // This constriction's seeds as `mrjam jam` records them, so an interrupted run's
+                // checkpoint resumes with `mrjam jam --resume` (that constriction only).
+                options.campaign = {{"scene", jam_inputs}, {"tier", args->fidelity}, {"base_directory", base},
+                                    {"seeds", seeds}, {"seed_index", k}, {"runs", runs},
+                                    {"first_report", first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
                 const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
                 const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(k) + ".json");
@@ -203,8 +241,11 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 jams += o.stops_flow;  // with a hold (protocol/hold_time), only arrests that held
                 arrests += o.jammed;
                 json record = jam_seed_record(o);
-                record["jam_report"] = seed_report.string();
+                if (k == 0) first_report = o.report;
+                record["seed"] = js.engine_scene["seed"].get<long long>() + k;
+                record["status"] = o.report["status"];
                 runs.push_back(record);
+                runs.back()["jam_report"] = seed_report.string();
             }
             // 3. The open valve's flow at the supply pressure.
             const double phi = js.resolved["grains"].value("volume_fraction", 0.345);

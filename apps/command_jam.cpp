@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 
 #include <CLI/CLI.hpp>
 
@@ -65,6 +66,7 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         // A resumed run finishes the protocol it started: another tier or seed count would not.
         if (!args->resume.empty() && (fidelity->count() > 0 || seeds_option->count() > 0))
             throw SceneError("--resume", "the tier and the number of seeds come from the checkpoint; drop --fidelity and --seeds");
+        prepare_output_file(args->report, "--report");
         // The record of the seeds: written into every checkpoint, so a resumed command knows the
         // scene, which seed was running and what the seeds before it gave.
         nlohmann::json campaign;
@@ -90,6 +92,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         if (args->resume.empty())
             campaign["snapshot_every_s"] = args->snapshots.empty() ? 0.0 : snapshot_interval(args->snapshot_every, scene);
         const long long first_seed = scene.engine_scene["seed"].get<long long>();
+        if (first_seed > std::numeric_limits<long long>::max() - (seeds - 1))
+            throw SceneError("/seed", "seed + --seeds - 1 overflows a 64-bit seed: give a smaller seed");
         const std::filesystem::path report_path(args->report);
         nlohmann::json report = campaign["first_report"];
         for (int k = first_index; k < seeds; ++k) {

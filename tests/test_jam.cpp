@@ -342,6 +342,45 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("length_twice",
             {{"model", {{"downstream_length", "1 mm"}}}, {"valve", {{"constriction", "30x"}, {"downstream_length", "2 mm"}}}},
             "/model/downstream_length");
+    // A release period shorter than the window it is judged over would call every arrest irreversible.
+    refused("short_release", {{"protocol", {{"arrest_window", "0.2 ms"}, {"release_time", "0.1 ms"}}}},
+            "/protocol/release_time");
+    // No flow, no no-field flux to measure an arrest against.
+    refused("still_fluid", {{"fluid", {{"bore_speed", "0 m/s"}}}}, "/fluid/bore_speed");
+    refused("no_directory", {{"output", {{"directory", ""}}}}, "/output/directory");
+    // A slab that cannot hold the largest grain, or is as wide as the 20x throat (20 grains).
+    refused("thin_slab", {{"model", {{"slab_thickness_diameters", 0.5}}}}, "/model/slab_thickness_diameters");
+    refused("wide_slab", {{"valve", {{"constriction", "20x"}}}, {"model", {{"slab_thickness_diameters", 25}}}},
+            "/model/slab_thickness_diameters");
+    // Flux counted less than 4 times per arrest window (36 ns quick step x 2000 = 72 us > 50 us):
+    // the window would read a zero rate, a false arrest. Refused once the step is known, before a step is run.
+    expect_mode_refused(dir, "jam", "sparse_observations",
+            {{"valve", {{"constriction", "30x"}}},
+             {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+             {"protocol", {{"flow_time", "0.3 ms"}, {"arrest_window", "0.05 ms"}, {"observe_every_steps", 2000}}}},
+            "/protocol/observe_every_steps", "--fidelity quick");
+}
+
+TEST_CASE("jam and design: a report path that cannot be written is refused before any work") {
+    TempDir dir;
+    // Scenes with a typo that is never reached: the report is checked first.
+    write_text(dir.file("jam.json"), json{{"protocol", {{"max_tme", "1 ms"}}}}.dump());
+    write_text(dir.file("design.json"), json{{"jam", {{"protocol", {{"max_tme", "1 ms"}}}}}}.dump());
+    std::filesystem::create_directories(dir.file("a_directory"));
+    write_text(dir.file("a_file"), "x");
+    for (const std::string& mode : {std::string("jam"), std::string("design")})
+        for (const std::string& report : {dir.file("a_directory"), std::string(""), dir.file("a_file") + "/r.json"}) {
+            CAPTURE(mode);
+            CAPTURE(report);
+            const Result r = mrjam_test::mrjam(dir, mode + " " + quote(dir.file(mode + ".json")) + " --report " + quote(report));
+            CHECK(r.exit_code == 2);
+            CHECK(r.err.find("--report") != std::string::npos);
+        }
+    // A number no double holds is bad input, named by its file.
+    write_text(dir.file("huge.json"), R"({"protocol": {"max_time": 1e999}})");
+    const Result huge = mrjam_test::mrjam(dir, "jam " + quote(dir.file("huge.json")) + " --report " + quote(dir.file("h.json")));
+    CHECK(huge.exit_code == 2);
+    CHECK(huge.err.find("huge.json") != std::string::npos);
 }
 
 TEST_CASE("jam scene: the converging jet is the taper mirrored where it fits, shortened to fit before the seam") {
@@ -691,6 +730,7 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     json soft = design;
     soft["jam"]["material"] = {{"youngs_modulus", "1 MPa"}};
     soft["jam"]["protocol"]["flow_time"] = "0.5 ms";
+    soft["jam"]["protocol"]["observe_every_steps"] = 1;  // the soft grains' long step still observes a window 4 times
     write_text(dir.file("soft.json"), soft.dump());
     const Result blown = mrjam_test::mrjam(dir, "design " + quote(dir.file("soft.json")) + " --report " +
                                                     quote(dir.file("soft_report.json")) + " --fidelity quick --quiet");
@@ -723,6 +763,24 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
         CAPTURE(refused.err);
         CHECK(refused.exit_code == 2);
         CHECK(refused.err.find(path) != std::string::npos);
+    }
+    // A block's errors are named from the design file's root, a constriction's by its list entry,
+    // and a block that is not an object is bad input too.
+    for (const auto& [change, path] : std::vector<std::pair<json, std::string>>{
+             {{{"jam", {{"protocol", {{"arrest_fraction", 0}}}}}}, "/jam/protocol/arrest_fraction"},
+             {{{"magnetics", {{"bogus", 1}}}}, "/magnetics/bogus"},
+             {{{"constrictions", {"30x", "3 mm"}}}, "/constrictions/1"},
+             {{{"jam", 5}}, "/jam"},
+             {{{"magnetics", {{"valve", 5}}}}, "/magnetics/valve"},
+             {{{"output_directory", ""}}, "/output_directory"}}) {
+        json changed = design;
+        changed.update(change);
+        write_text(dir.file("changed.json"), changed.dump());
+        const Result refused = mrjam_test::mrjam(dir, "design " + quote(dir.file("changed.json")) + " --quiet");
+        CAPTURE(path);
+        CAPTURE(refused.err);
+        CHECK(refused.exit_code == 2);
+        CHECK(refused.err.find("error in scene: " + path + ":") != std::string::npos);
     }
 }
 

@@ -23,6 +23,7 @@
 #include "jam/throat_span.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam {
 
@@ -78,6 +79,48 @@ JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const n
     return v;
 }
 
+// An arrest is a window whose grain count falls below arrest_fraction of the no-field count.
+// With few grains per window a flowing bed's count is zero by chance (Poisson: e^-20 ~ 2e-9 at 20
+// grains, e^-5 ~ 7e-3 at 5, tested at every observation), so the arrest may be noise.
+constexpr double kFewestGrainsPerWindow = 20;
+std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
+    const double per_window = base_rate * p.arrest_window;
+    if (!(base_rate > 0) || per_window >= kFewestGrainsPerWindow) return {};
+    return "the no-field flux passes only " + std::to_string(per_window) +
+           " grains per protocol/arrest_window, so an arrest can be counting noise: lengthen the window to at least " +
+           std::to_string(kFewestGrainsPerWindow / base_rate * 1e3) + " ms";
+}
+
+// A coupled flow's jet cut short by a tube length the scene fixed (lib/jam/jam_scene.cpp keeps
+// it): the grains pile up where the stream slows, which blew up the 10 um mix (docs/jam.md).
+std::string short_jet_warning(const JamScene& js) {
+    if (!js.flow.coupled || js.valve.is_slot() || js.flow.jet_length >= js.valve.taper_length) return {};
+    return "the coupled flow's jet re-opens over " + std::to_string(js.flow.jet_length * 1e3) +
+           " mm, shorter than the taper (" + std::to_string(js.valve.taper_length * 1e3) +
+           " mm), because the scene fixes the tube's length: grains can pile up past the orifice; give "
+           "model/downstream_length at least " +
+           std::to_string((js.valve.throat_end_z() + js.valve.taper_length + 2.0 * js.flow.cell_length) * 1e3) +
+           " mm, or drop it";
+}
+
+// The flux is counted at observations: a window (or the no-field reference, the flow period's
+// second half) that holds only a few of them reads the same count at both ends, a zero rate, and
+// so a false arrest. Refused before the run, now that the step is known.
+void check_observation_interval(const JamProtocol& p, double dt) {
+    constexpr double kObservationsPerWindow = 4;
+    const double interval = p.observe_every * dt;
+    const double shortest = std::min(p.arrest_window, 0.5 * p.flow_time);
+    if (interval * kObservationsPerWindow <= shortest) return;
+    const long most = static_cast<long>(std::floor(shortest / (kObservationsPerWindow * dt)));
+    if (most >= 1)
+        throw SceneError("/protocol/observe_every_steps",
+                         "observes the flux every " + std::to_string(interval * 1e6) + " us (step " +
+                             std::to_string(dt * 1e9) + " ns), fewer than 4 times per arrest window or half flow time (" +
+                             std::to_string(shortest * 1e6) + " us): give at most " + std::to_string(most));
+    throw SceneError("/protocol/arrest_window", "is shorter than 4 steps of " + std::to_string(dt * 1e9) +
+                                                    " ns (or half of protocol/flow_time is): lengthen it");
+}
+
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
 void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
                        std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete) {
@@ -94,10 +137,11 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     r["no_field_flux_grains_per_s"] = st.base_rate;
     r["released"] = st.jammed ? nlohmann::json(st.released) : nlohmann::json(nullptr);
     // Why the field period ended: an arrest, a steady flow (protocol/steady_window) or max_time.
-    r["field_period_ended_by"] = st.jammed    ? "arrest"
-                                 : st.steady  ? "steady flow"
-                                 : incomplete ? "interruption"
-                                              : "max_time";
+    r["field_period_ended_by"] = st.jammed         ? "arrest"
+                                 : st.steady       ? "steady flow"
+                                 : st.undetermined ? "no no-field flux to compare with"
+                                 : incomplete      ? "interruption"
+                                                   : "max_time";
     const nlohmann::json hold = js.protocol.hold_time > 0
                                     ? hold_results(st, js.protocol, js.flow.supply_pressure)
                                     : nlohmann::json(nullptr);
@@ -110,6 +154,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
             "taken as no jam: arrests can come late after a long steady flow (on the bundled "
             "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
             "outcome with steady_window 0");
+    for (const std::string& w : {sparse_window_warning(st.base_rate, js.protocol), short_jet_warning(js)})
+        if (!w.empty()) report["warnings"].push_back(w);
     if (st.undetermined)
         report["warnings"].push_back(
             "no grains crossed the throat during the no-field flow, so an arrest cannot be "
@@ -282,6 +328,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
     const JamProtocol& p = js.protocol;
+    check_observation_interval(p, s.dt);
+    if (const std::string w = short_jet_warning(js); options.progress && !w.empty())
+        std::cerr << "[jam] warning: " << w << "\n";
 
     // The magnet is switched on after the no-field flow and off when the flow has arrested.
     auto field = std::make_shared<SwitchedField>(s.magnetic.field, p.flow_time);
@@ -350,6 +399,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
                 // The no-field flux over the second half of the flow period: the reference.
                 st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
                 st.passed_at_switch_on = st.flux.passed();
+                if (options.progress)
+                    if (const std::string w = sparse_window_warning(st.base_rate, p); !w.empty())
+                        std::cerr << "[jam] warning: " << w << "\n";
                 if (!(st.base_rate > 0)) {  // nothing to compare an arrest with
                     st.undetermined = true;
                     return true;
@@ -380,6 +432,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         }
         return false;
     };
+    std::string picture_error;
     auto look_at_clusters = [&](const System& sys) {
         const ContactClusters clusters = contact_clusters(sys);
         ClusterView v;
@@ -387,8 +440,12 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         v.largest = clusters.size.empty() ? 0 : static_cast<long>(clusters.size[0]);
         v.count = static_cast<long>(clusters.size.size());
         v.spans = valve_wall ? cluster_spans_throat(sys, clusters, js.valve, *valve_wall) : false;
-        if (!options.picture_path.empty() && sys.particles.size() > 0)
-            write_throat_picture(options.picture_path, sys, clusters, js.valve);
+        // A picture that cannot be written costs a warning, never the run.
+        if (!options.picture_path.empty() && sys.particles.size() > 0) try {
+                write_throat_picture(options.picture_path, sys, clusters, js.valve);
+            } catch (const std::exception& e) {
+                picture_error = e.what();
+            }
         return v;
     };
     // ---- Snapshots and checkpoint/resume (kept apart from the flow controller above) ----
@@ -467,7 +524,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     if (coupled) write_coupled_slices(out.report["results"], *coupled);
     if (outlet) write_batch_results(out.report, st, *outlet, s.particles.size());
     if (snapshots.enabled()) out.report["outputs"]["snapshots"] = snapshots.written();
-    if (!options.picture_path.empty() && s.particles.size() > 0)
+    if (!picture_error.empty())
+        out.report["warnings"].push_back("the throat picture was not written: " + picture_error);
+    else if (!options.picture_path.empty() && s.particles.size() > 0)
         out.report["outputs"]["throat_picture"] = options.picture_path;
     return out;
 }

@@ -149,6 +149,15 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         throw SceneError("/valve/constriction_diameter", "the throat is not wider than the largest grain (" +
                                                              std::to_string(out.largest_diameter * 1e6) +
                                                              " um); widen it or use finer grains");
+    // The slab (0: the full bore) must hold the largest grain and cut a passage through the throat.
+    if (slab_diameters > 0 && slab_diameters < 1)
+        throw SceneError("/model/slab_thickness_diameters",
+                         "must be at least 1 (the largest grain must fit between the faces), or 0 for the full bore");
+    if (!v.is_slot() && slab_diameters * out.largest_diameter >= v.constriction_diameter)
+        throw SceneError("/model/slab_thickness_diameters",
+                         "a slab " + std::to_string(slab_diameters) + " largest grains thick is not narrower than the throat (" +
+                             std::to_string(v.constriction_diameter / out.largest_diameter) +
+                             " of them): give fewer, or 0 for the full bore");
     if (v.is_slot() && out.largest_diameter >= v.slot_width)
         throw SceneError("/valve/slot_width", "the slot is not wider than the largest grain (" +
                                                   std::to_string(out.largest_diameter * 1e6) +
@@ -177,7 +186,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
 
     SceneNode fluid = root.object("fluid");
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
-    const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::non_negative());
+    // Positive: the no-field flux it drives is what an arrest is measured against.
+    const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::positive());
     const std::string flow_model = fluid.choice("flow", {"prescribed", "pressure", "coupled"}, "prescribed");
     out.flow.coupled = flow_model == "coupled";
     out.flow.pressure_driven = flow_model != "prescribed";
@@ -254,8 +264,6 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             fluid.fail("rings", "at most " + std::to_string(widest) +
                                     " here: a ring must be at least a mean grain diameter wide in the throat, "
                                     "or grain centres cannot fill it");
-        if (!(bore_speed > 0))
-            fluid.fail("bore_speed", "must be positive with the coupled flow: it sets the circuit's open flow rate");
         const double q0 = ValveFlow(v, bore_speed).reference_flow_rate();
         const double clear =
             clear_stretch_pressure(v, -v.upstream_length, v.downstream_length, jet_length, viscosity, q0);
@@ -338,6 +346,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     if (p.hold_pressure_ramp > p.hold_time)
         protocol.fail("hold_pressure_ramp", "must not exceed protocol/hold_time: the hold should reach its pressure");
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
+    // The release is judged over one arrest window with the field off: a shorter release period
+    // would end before the test is made and report every arrest as irreversible.
+    if (p.release_time < p.arrest_window)
+        protocol.fail("release_time", "must be at least protocol/arrest_window (" + std::to_string(p.arrest_window * 1e3) +
+                                          " ms): the release is judged over one window with the field off");
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);
     if (p.arrest_window >= p.max_time) protocol.fail("arrest_window", "must be shorter than max_time");
@@ -350,6 +363,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
 
     SceneNode output = root.object("output");
     const std::string directory = output.text("directory", "out/jam");
+    if (directory.empty()) output.fail("directory", "must name a directory for the checkpoint, e.g. \"out/jam\"");
     const long long snapshot_every = output.integer("snapshot_every_steps", 0, 0);
     // Checkpoints every N steps (besides every 10 minutes and on Ctrl-C) for `mrjam jam --resume`.
     const long long checkpoint_every = output.integer("checkpoint_every_steps", 0, 0);
