@@ -208,7 +208,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
                                         {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},
                                         {"taper_middle_z_m", taper_middle_z}};
-            int jams = 0, arrests = 0;
+            int jams = 0, arrests = 0, undetermined = 0;
             json runs = json::array();
             json first_report = nullptr;
             for (int k = 0; k < seeds; ++k) {
@@ -238,8 +238,10 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
                 }
-                jams += o.stops_flow;  // with a hold (protocol/hold_time), only arrests that held
-                arrests += o.jammed;
+                const bool judged = o.report["results"]["outcome"] != "undetermined";  // no no-field flux
+                undetermined += !judged;
+                jams += judged && o.stops_flow;  // with a hold (protocol/hold_time), only arrests that held
+                arrests += judged && o.jammed;
                 json record = jam_seed_record(o);
                 if (k == 0) first_report = o.report;
                 record["seed"] = js.engine_scene["seed"].get<long long>() + k;
@@ -252,14 +254,21 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const double mu = js.resolved["fluid"].value("viscosity", 0.16);
             const double rho_s = phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
             const OpenFlowEstimate flow = open_flow_estimate(js.valve, mu, phi, rho_s, js.flow.supply_pressure);
-            const double probability = static_cast<double>(jams) / seeds;
-            if (probability >= required && diameter > widest_d) { widest_d = diameter; widest = name; }
+            // Seeds without a no-field flux are left out; a constriction with none judged cannot be named.
+            const int judged = seeds - undetermined;
+            const double probability = judged > 0 ? static_cast<double>(jams) / judged : 0.0;
+            if (judged > 0 && probability >= required && diameter > widest_d) { widest_d = diameter; widest = name; }
+            if (undetermined > 0)
+                std::cerr << "[design] warning: " << name << ": " << undetermined << " of " << seeds
+                          << " seed(s) undetermined (no grain crossed without field), left out\n";
             rows.push_back({{"constriction", name}, {"diameter_m", diameter},
                             {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
                             {"B_on_axis", field_on_axis},
-                            {"jam_probability", probability}, {"arrest_probability", static_cast<double>(arrests) / seeds},
-                            {"jam_probability_95ci", interval_json(wilson_interval(jams, seeds))},
-                            {"arrest_probability_95ci", interval_json(wilson_interval(arrests, seeds))},
+                            {"jam_probability", judged > 0 ? json(probability) : json(nullptr)},
+                            {"arrest_probability", judged > 0 ? json(static_cast<double>(arrests) / judged) : json(nullptr)},
+                            {"jam_probability_95ci", judged > 0 ? interval_json(wilson_interval(jams, judged)) : json(nullptr)},
+                            {"arrest_probability_95ci", judged > 0 ? interval_json(wilson_interval(arrests, judged)) : json(nullptr)},
+                            {"undetermined_seeds", undetermined},
                             {"runs", runs},
                             {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
                             {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},

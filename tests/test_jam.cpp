@@ -361,6 +361,29 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
             "/protocol/observe_every_steps", "--fidelity quick");
 }
 
+// A fluid too slow to carry a grain through the throat during the no-field flow leaves nothing to
+// measure an arrest against: the seed is undetermined, left out of the probabilities, and with no
+// seed judged the command fails (exit 1) rather than report a jam probability of 0.
+TEST_CASE("jam: undetermined seeds are left out of the probabilities") {
+    TempDir dir;
+    const json scene = {{"valve", {{"constriction", "30x"}}},
+                        {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                        {"fluid", {{"bore_speed", "1e-6 m/s"}}},
+                        {"protocol", {{"flow_time", "0.02 ms"}, {"max_time", "0.02 ms"}, {"arrest_window", "0.01 ms"},
+                                      {"release_time", "0.01 ms"}}},
+                        {"output", {{"directory", dir.file("out")}}}};
+    const Result r = run_mode(dir, "jam", "still", scene, "--fidelity quick");
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("undetermined") != std::string::npos);
+    const json res = json::parse(slurp(dir.file("still_report.json")))["results"];
+    CHECK(res["outcome"] == "undetermined");
+    CHECK(res["jam_probability"].is_null());
+    CHECK(res["jam_probability_95ci"].is_null());
+    CHECK(res["undetermined_seeds"] == 1);
+    CHECK(res["field_period_ended_by"] != "max_time");
+}
+
 TEST_CASE("jam and design: a report path that cannot be written is refused before any work") {
     TempDir dir;
     // Scenes with a typo that is never reached: the report is checked first.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <utility>
@@ -364,6 +365,38 @@ TEST_CASE("jam: a blow-up stops the run with its cause on stderr and exit code 3
     const json report = json::parse(slurp(dir.file("soft_report.json")));
     CHECK(report["status"] == "failed");
     CHECK(report["error"].get<std::string>().find("blow-up") != std::string::npos);
+}
+
+// A damaged checkpoint is refused as bad input to --resume (exit 2), not read past an array's
+// end: here the velocity array (the second per-grain array, after the positions) is cut 100
+// grains short, its length field made to match.
+TEST_CASE("jam --resume: a checkpoint whose per-grain arrays disagree is refused") {
+    TempDir dir;
+    REQUIRE(jam(dir, "run", tiny_scene(dir.file("out"), 200), "").exit_code == 0);
+    std::string bytes = slurp(dir.file("out/checkpoint.mrjam"));
+    auto u64 = [&](std::size_t at) {
+        std::uint64_t v;
+        std::memcpy(&v, bytes.data() + at, sizeof v);
+        return v;
+    };
+    // The positions: a length n followed by n Vec3 (24 bytes) and the velocities' length n.
+    std::size_t velocities = 0;
+    for (std::size_t at = 0; velocities == 0 && at + 8 <= bytes.size(); ++at) {
+        const std::uint64_t n = u64(at);
+        if (n > 100 && n < 1000000 && at + 16 + 24 * n <= bytes.size() && u64(at + 8 + 24 * n) == n)
+            velocities = at + 8 + 24 * n;
+    }
+    REQUIRE(velocities > 0);
+    const std::uint64_t shorter = u64(velocities) - 100;
+    std::memcpy(bytes.data() + velocities, &shorter, sizeof shorter);
+    bytes.erase(velocities + 8, 24 * 100);
+    write_text(dir.file("damaged.mrjam"), bytes);
+    const Result r = mrjam(dir, "jam --resume " + quote(dir.file("damaged.mrjam")) + " --report " +
+                                    quote(dir.file("damaged_report.json")) + " --quiet");
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--resume") != std::string::npos);
+    CHECK(r.err.find("corrupt") != std::string::npos);
 }
 
 TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
