@@ -1,6 +1,7 @@
 // `mrjam jam SCENE.json --report R.json [--seeds N]`: will this fluid jam in this constriction
 // under this field, how fast, and does it let go when the field is switched off?
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -35,11 +36,14 @@ struct JamArgs {
 // the no-field and field periods.
 double snapshot_interval(const std::string& text, const JamScene& scene) {
     if (text.empty()) return (scene.protocol.flow_time + scene.protocol.max_time) / 20.0;
-    double t = 0;
-    try {
-        t = units::parse_as(text, units::time);
-    } catch (const std::exception& e) {
-        throw SceneError("--snapshot-every", std::string(e.what()) + "; give a time such as \"0.1 ms\"");
+    char* end = nullptr;
+    double t = std::strtod(text.c_str(), &end);  // plain seconds
+    if (end != text.c_str() + text.size()) {
+        try {
+            t = units::parse_as(text, units::time);
+        } catch (const std::exception& e) {
+            throw SceneError("--snapshot-every", std::string(e.what()) + "; give a time such as \"0.1 ms\"");
+        }
     }
     if (!(t > 0)) throw SceneError("--snapshot-every", "must be a positive time, such as \"0.1 ms\"");
     return t;
@@ -89,6 +93,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         const JamScene scene =
             read_jam_scene(campaign["scene"], campaign["tier"].get<std::string>(), campaign["base_directory"].get<std::string>());
         const int seeds = campaign["seeds"].get<int>();
+        if (args->snapshots.empty() && !args->snapshot_every.empty())
+            throw SceneError("--snapshot-every", "sets the interval of --snapshots DIR: give that too, or drop it");
         if (args->resume.empty())
             campaign["snapshot_every_s"] = args->snapshots.empty() ? 0.0 : snapshot_interval(args->snapshot_every, scene);
         const long long first_seed = scene.engine_scene["seed"].get<long long>();

@@ -429,7 +429,7 @@ TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterr
 
 TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {
     TempDir dir;
-    const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0), "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every '0.02 ms'");
+    const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0), "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every 2e-5");  // plain seconds
     CAPTURE(r.err);
     REQUIRE(r.exit_code == 0);
     const json report = json::parse(slurp(dir.file("snap_report.json")));
@@ -469,6 +469,10 @@ TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with th
     const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0), "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
     CHECK(bad.exit_code == 2);
     CHECK(bad.err.find("--snapshot-every") != std::string::npos);
+    // An interval without snapshots to space would be ignored: refused too.
+    const Result alone = jam(dir, "alone", tiny_scene(dir.file("out_alone"), 0), "--snapshot-every 2e-5");
+    CHECK(alone.exit_code == 2);
+    CHECK(alone.err.find("--snapshot-every") != std::string::npos);
 }
 
 }  // TEST_SUITE

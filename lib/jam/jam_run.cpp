@@ -316,7 +316,18 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         build.insert_grains = false;
         engine = checkpoint.header.resolved_scene;
     }
-    Scene scene = build_scene(engine, build);
+    // The engine scene is generated: a packing it cannot make is the jam scene's volume fraction
+    // (or size table), named as the user wrote it rather than by the generated scene's path.
+    Scene scene = [&] {
+        try {
+            return build_scene(engine, build);
+        } catch (const SceneError& e) {
+            const std::string& path = e.path();
+            if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
+                throw SceneError("/grains/volume_fraction", std::string(e.what()).substr(path.size() + 2));
+            throw;
+        }
+    }();
     // The coupled flow replaces the engine scene's prescribed one before anything reads it.
     std::unique_ptr<CoupledFlow> coupled;
     if (js.flow.coupled) {
