@@ -301,6 +301,11 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     write_text(map, "mrjam-fieldmap 1\n2 2 2\n-1e-4 -1e-4 -1e-4\n2e-4 2e-4 2e-4\n" + std::string(8 * 1, ' ') +
                         "0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n");
     refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
+    // A header that promises 4096^3 nodes (1.6 TB of values) and ends: refused as it is read, not allocated.
+    const std::string huge = dir.file("huge.map");
+    write_text(huge, "mrjam-fieldmap 1\n4096 4096 4096\n-1e-4 -1e-3 -1e-3\n1e-6 1e-6 1e-6\n0 0.2 0\n");
+    refused("huge_map", {{"field", {{"type", "map"}, {"file", huge}}}}, "/field/file");
+    refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}}, "/grains/psd");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");

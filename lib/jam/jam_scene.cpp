@@ -129,6 +129,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // Grains.
     SceneNode grains = root.object("grains");
     MassTable table;
+    if (grains.has("diameters") && grains.has("psd"))
+        grains.fail("psd", "give a preset size table (psd) or your own (diameters and mass_fractions), not both");
     if (grains.has("diameters")) {
         table.diameters = grains.quantity_list("diameters", units::length, Bounds::positive());
         table.mass = grains.quantity_list("mass_fractions", units::dimensionless, Bounds::non_negative());

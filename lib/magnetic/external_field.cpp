@@ -57,10 +57,14 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
     { auto s = next("the spacing"); if (!(s >> spacing.x >> spacing.y >> spacing.z)) throw bad("the spacing dx dy dz"); }
     if (count[0] < 2 || count[1] < 2 || count[2] < 2 || count[0] > 4096 || count[1] > 4096 || count[2] > 4096)
         throw std::runtime_error(path + ": node counts must be between 2 and 4096");
-    std::vector<Vec3> values(static_cast<std::size_t>(count[0]) * count[1] * count[2]);
-    for (auto& v : values) {
+    // Read node by node, not allocated from the header: a damaged header must not ask for terabytes.
+    const std::size_t nodes = static_cast<std::size_t>(count[0]) * count[1] * count[2];
+    std::vector<Vec3> values;
+    for (std::size_t k = 0; k < nodes; ++k) {
         auto s = next("more field values");
+        Vec3 v;
         if (!(s >> v.x >> v.y >> v.z) || !finite(v)) throw bad("Bx By Bz (finite numbers, tesla)");
+        values.push_back(v);
     }
     return FieldMap(count, origin, spacing, std::move(values), scale);
 }
