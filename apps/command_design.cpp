@@ -54,8 +54,6 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
     return out;
 }
 
-// Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
-// would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
 // Runs a block's scene reader and names its errors from the design file's root: "/jam/protocol/..."
 // rather than the block's own "/protocol/...".
 template <class Read>
@@ -68,6 +66,8 @@ auto within_block(const std::string& block, Read&& read) {
     }
 }
 
+// Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
+// would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
 void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
                     const std::string& fix) {
     if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);

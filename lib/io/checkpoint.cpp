@@ -23,7 +23,8 @@ void put_particles(std::ostream& out, const Particles& p) {
 void get_particles(std::istream& in, Particles& p) {
     p.for_each_array([&](auto& a) { binary::get_vector(in, a); });
     // Every per-grain array must have one entry per grain: a damaged file that does not would
-    // have the force passes index past an array's end.
+    // have the force passes index past an array's end. (The held forces, flow lookups and wall
+    // histories are checked against the grain count where they are used, and renewed.)
     const std::size_t n = p.size();
     p.for_each_array([&](const auto& a) {
         if (a.size() != n) throw std::runtime_error("checkpoint is corrupt (per-grain arrays of different lengths)");
@@ -154,21 +155,12 @@ void restore_state(const std::string& path, System& s) {
         // scene resolved then must not pick up a later tier default mid-run.
         s.physics.flow_lookup_interval = 1;
     }
-    // Per-grain state outside the particle arrays: empty (not held yet) or one entry per grain.
-    const auto per_grain = [&](std::size_t size, const char* what) {
-        if (size != 0 && size != s.particles.size())
-            throw std::runtime_error(std::string("checkpoint is corrupt (") + what + " does not match the grains)");
-    };
-    per_grain(s.magnetic.held_force.size(), "held magnetic forces");
-    per_grain(s.magnetic.held_torque.size(), "held magnetic torques");
-    per_grain(s.held_flow.at.size(), "held carrier-flow lookups");
     const auto nwalls = binary::get<std::uint64_t>(in);
     if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
     for (Wall& w : s.walls) {
         w.point = binary::get<Vec3>(in);
         w.velocity = binary::get<Vec3>(in);
         binary::get_vector(in, w.history);
-        per_grain(w.history.size(), "a wall's contact history");
         w.near.valid = false;  // found again at the next neighbour rebuild
     }
     const auto nrafts = binary::get<std::uint64_t>(in);

@@ -22,8 +22,8 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
     out.campaign = h["state"]["campaign"];
     const nlohmann::json& c = out.campaign;
     if (!c.is_object() || !c.contains("scene") || !c.contains("seed_index") || !c.contains("seeds"))
-        throw SceneError("--resume", path + " holds no record of its scene and seeds (a checkpoint of `mrjam design` "
-                                            "from before version 0.1.0's design campaigns, or a damaged file); rerun it");
+        throw SceneError("--resume", path + " holds no record of its scene and seeds (written by `mrjam design` "
+                                            "before its jam runs recorded them, or damaged): run the scene again");
     // A campaign checkpointed before magnetic forces could be held evaluated them every step, and
     // its remaining seeds do too (restore_state enforces it); saying so in its scene keeps the
     // report's `inputs_jam` from showing a later tier default, and new checkpoints carry it on.
