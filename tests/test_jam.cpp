@@ -295,6 +295,14 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("narrow_throat", {{"valve", {{"constriction_diameter", "40 um"}}}}, "/valve/constriction_diameter");
     refused("zero_threshold", {{"protocol", {{"arrest_fraction", 0}}}}, "/protocol/arrest_fraction");
     refused("dense", {{"grains", {{"volume_fraction", 0.7}}}}, "/grains/volume_fraction");
+    // Below random close packing but more than the valve's walls let the packing reach: refused by
+    // the generated engine scene's packer, named as the jam scene's key (not /grains/0/placement/...).
+    expect_mode_refused(dir, "jam", "unpackable",
+                        {{"valve", {{"constriction", "20x"}}},
+                         {"grains", {{"volume_fraction", 0.6}}},
+                         {"model", {{"upstream_length", "0.95 mm"}, {"downstream_length", "0.3 mm"}}},
+                         {"output", {{"directory", dir.file("out_unpackable")}}}},
+                        "error in scene: /grains/volume_fraction:", "--fidelity quick");
     refused("empty_table", {{"grains", {{"diameters", json::array()}, {"mass_fractions", json::array()}}}}, "/grains/diameters");
     // A field map that covers only part of the valve.
     const std::string map = dir.file("small.map");
