@@ -12,6 +12,7 @@ namespace mrjam::cli {
 // 3 the run blew up, 130 interrupted (checkpoint written).
 inline constexpr int kExitError = 1;
 inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitInterrupted = 130;
 
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);

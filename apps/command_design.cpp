@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
@@ -15,6 +16,7 @@
 #include "magnetic/external_field.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "magnetics/magnetics_scene.hpp"
+#include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
@@ -160,6 +162,9 @@ void add_design_command(CLI::App& app, int& exit_status) {
         if (made || !fs::is_directory(out_dir))
             throw SceneError("/output_directory", "cannot create " + out_dir.string() + ": choose another directory");
 
+        // Ctrl-C from here on writes the design report of what is done (exit 130); without the
+        // handler, an interrupt during a field solve would end the process with nothing written.
+        install_interrupt_handler();
         const auto started = std::chrono::steady_clock::now();
         json rows = json::array();
         std::string widest;
@@ -187,14 +192,30 @@ void add_design_command(CLI::App& app, int& exit_status) {
             auto ms = magnetics_scene(dir, diameter);
             ms.request.work_dir = dir / "magnetics" / "solver";
             if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
-            const auto field = [&] {
-                try {
-                    return magnetics::compute_epm_field(ms.request);
-                } catch (const std::exception& e) {  // a mesh or solver failure: keep what is done, then fail
-                    write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
-                    throw;
+            std::optional<decltype(magnetics::compute_epm_field(ms.request))> solved;
+            try {
+                solved = magnetics::compute_epm_field(ms.request);
+            } catch (const std::exception& e) {
+                // Ctrl-C reaches gmsh or GetDP too, which then fail: an interruption, not a solver fault.
+                if (interrupt_requested()) {
+                    write_report("interrupted", {{"constriction", name}, {"stage", "field solve"}});
+                    std::cerr << "[design] interrupted during the field solve for " << name
+                              << "; the constrictions finished before it are in " << args->report << "\n";
+                    exit_status = kExitInterrupted;
+                    return;
                 }
-            }();
+                // A mesh or solver failure: keep what is done, then fail.
+                write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
+                throw;
+            }
+            const auto& field = *solved;
+            if (interrupt_requested()) {  // Ctrl-C that reached mrjam alone: stop before the jam run
+                write_report("interrupted", {{"constriction", name}, {"stage", "field solve"}});
+                std::cerr << "[design] interrupted after the field solve for " << name
+                          << "; the constrictions finished before it are in " << args->report << "\n";
+                exit_status = kExitInterrupted;
+                return;
+            }
             fs::remove_all(ms.request.work_dir);
             const fs::path map = dir / "field.map";
             const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -10,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace mrjam::magnetics {
@@ -258,6 +260,14 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
                                 " -ksp_max_it " + std::to_string(kMaxSolverIterations) + " > " +
                                 shell_quote(log.string()) + " 2>&1";
     const int status = std::system(command.c_str());
+    // system() ignores Ctrl-C in this process while GetDP runs, so the interrupt only reached
+    // GetDP (through its shell): pass it on to this process, whose handler (or default) decides.
+    const bool interrupted = (WIFSIGNALED(status) && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM)) ||
+                             (WIFEXITED(status) && (WEXITSTATUS(status) == 128 + SIGINT || WEXITSTATUS(status) == 128 + SIGTERM));
+    if (interrupted) {
+        std::raise(SIGINT);
+        throw SolverError("getdp was interrupted");
+    }
     if (status != 0)
         throw SolverError("getdp failed (status " + std::to_string(status) + "); the end of its log " + log.string() +
                           ":\n" + tail_of(log, 12));

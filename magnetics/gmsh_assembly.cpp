@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -12,7 +13,12 @@
 namespace mrjam::magnetics {
 
 GmshSession::GmshSession(const std::string& model_name) {
+    // Gmsh may take over Ctrl-C; the caller's handling (mrjam's checkpoint-and-exit, or the
+    // default) is put back so an interrupt during meshing is not swallowed.
+    const auto on_int = std::signal(SIGINT, SIG_DFL), on_term = std::signal(SIGTERM, SIG_DFL);
     gmsh::initialize();
+    std::signal(SIGINT, on_int);
+    std::signal(SIGTERM, on_term);
     // MRJAM_GMSH_VERBOSE=1 shows gmsh's own log, for diagnosing a geometry that will not mesh.
     gmsh::option::setNumber("General.Terminal", std::getenv("MRJAM_GMSH_VERBOSE") ? 1 : 0);
     gmsh::option::setNumber("General.Verbosity", 2);

@@ -722,6 +722,28 @@ TEST_SUITE("cli") {
 // The design chain end to end on one constriction with a coarse field mesh and a short run:
 // the field map written for the constriction must drive the jam run, and the report must name
 // the jam probability and the open-state flow estimate.
+// Ctrl-C in a terminal reaches the whole process group, GetDP included, while mrjam waits on it
+// (system() ignores the signal in mrjam meanwhile): the design still ends as interrupted, exit
+// 130, with its report written, rather than as a solver failure (exit 1).
+TEST_CASE("design: Ctrl-C during the field solve is an interruption") {
+    if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
+    TempDir dir;
+    const json design = {{"constrictions", {"30x"}}, {"output_directory", dir.file("design")}};
+    write_text(dir.file("design.json"), design.dump());
+    // GetDP is mrjam's grandchild (through sh): signal both, as a terminal would.
+    const std::string signal_group =
+        " & pid=$!; g=; for i in $(seq 1 600); do s=$(pgrep -P $pid -x sh); [ -n \"$s\" ] && g=$(pgrep -P $s -x getdp);"
+        " [ -n \"$g\" ] && break; sleep 0.05; done; kill -INT $pid $g; wait $pid";
+    const Result r = mrjam_test::mrjam(dir, "design " + quote(dir.file("design.json")) + " --report " +
+                                                quote(dir.file("report.json")) + " --fidelity quick --quiet",
+                                       signal_group);
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 130);
+    const json report = json::parse(slurp(dir.file("report.json")));
+    CHECK(report["status"] == "interrupted");
+    CHECK(report["stopped"]["stage"] == "field solve");
+}
+
 TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
     TempDir dir;
