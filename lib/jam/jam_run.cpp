@@ -324,7 +324,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         } catch (const SceneError& e) {
             const std::string& path = e.path();
             if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
-                throw SceneError("/grains/volume_fraction", std::string(e.what()).substr(path.size() + 2));
+                throw e.at("/grains/volume_fraction");
             throw;
         }
     }();

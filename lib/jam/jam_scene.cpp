@@ -119,7 +119,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         out.valve = read_valve(SceneNode(valve_in, valve_echo, "/valve"));
     } catch (const SceneError& e) {
         if (lengths_from_model && e.path() == "/valve/upstream_length")
-            throw SceneError("/model/upstream_length", std::string(e.what()).substr(e.path().size() + 2));
+            throw e.at("/model/upstream_length");
         throw;
     }
     root.resolved_child("valve") = valve_echo;

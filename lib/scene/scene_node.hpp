@@ -23,11 +23,16 @@ using json = nlohmann::json;
 class SceneError : public std::runtime_error {
 public:
     SceneError(const std::string& path, const std::string& message)
-        : std::runtime_error(path + ": " + message), path_(path) {}
+        : std::runtime_error(path + ": " + message), path_(path), message_(message) {}
     const std::string& path() const { return path_; }
+    const std::string& message() const { return message_; }
+    // The same error named by another path: where a generated or embedded scene's key is the
+    // user's key under another name.
+    SceneError at(const std::string& path) const { return SceneError(path, message_); }
 
 private:
     std::string path_;
+    std::string message_;
 };
 
 // Allowed interval for a number. Open ends exclude the bound.
