@@ -11,6 +11,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "seed_tally.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "run/runner.hpp"
@@ -144,29 +145,14 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         const nlohmann::json& runs = campaign["runs"];
         // A seed counts as a jam when its arrest stopped the flow (with a hold: and held); the time
         // to arrest is every arrest's, held or not.
-        // A seed with no no-field flux (`undetermined`) says nothing about jamming: it is left out
-        // of the probabilities, not counted as a flow.
-        int jams = 0, determined = 0;
-        std::vector<double> arrest_times;
-        for (const auto& run : runs) {
-            if (run.value("outcome", std::string()) == "undetermined") continue;
-            ++determined;
-            const bool arrested = run["time_to_arrest_s"].is_number();  // a number exactly when the seed arrested
-            if (arrested) arrest_times.push_back(run["time_to_arrest_s"].get<double>());
-            jams += run.value("stops_flow", arrested);  // checkpoints from before stops_flow: the arrest alone
-        }
+        const SeedTally tally = tally_seeds(runs);
+        const std::vector<double>& arrest_times = tally.arrest_times;
         double mean = 0, spread = 0;
         for (double t : arrest_times) mean += t / arrest_times.size();
         for (double t : arrest_times) spread += (t - mean) * (t - mean) / std::max<std::size_t>(1, arrest_times.size() - 1);
         report["inputs_jam"] = scene.resolved;
         report["seeds"] = runs;
-        auto share = [&](int k) { return determined > 0 ? nlohmann::json(static_cast<double>(k) / determined) : nlohmann::json(nullptr); };
-        auto interval = [&](int k) { return determined > 0 ? interval_json(wilson_interval(k, determined)) : nlohmann::json(nullptr); };
-        report["results"]["jam_probability"] = share(jams);
-        report["results"]["arrest_probability"] = share(static_cast<int>(arrest_times.size()));
-        report["results"]["jam_probability_95ci"] = interval(jams);
-        report["results"]["arrest_probability_95ci"] = interval(static_cast<int>(arrest_times.size()));
-        report["results"]["undetermined_seeds"] = seeds - determined;
+        report["results"].update(seed_probabilities(tally));
         report["results"]["time_to_arrest_mean_s"] = arrest_times.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean);
         report["results"]["time_to_arrest_std_s"] =
             arrest_times.size() < 2 ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(spread));
@@ -179,11 +165,11 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             report["fidelity"]["flow_lookup_interval"] = report["results"]["carrier_flow"]["lookup_interval_steps"];
         if (!args->resume.empty()) report["resumed_from"] = args->resume;
         write_json_file(args->report, report);
-        if (determined < seeds)
-            std::cerr << "[jam] warning: " << seeds - determined << " of " << seeds
+        if (tally.judged < seeds)
+            std::cerr << "[jam] warning: " << seeds - tally.judged << " of " << seeds
                       << " seed(s) undetermined (no grain crossed the throat without field; see the report's warnings), "
                          "left out of the probabilities\n";
-        if (determined == 0) {  // nothing was measured: not a result to build on
+        if (tally.judged == 0) {  // nothing was measured: not a result to build on
             std::cerr << "[jam] no seed could be judged; report " << args->report << "\n";
             exit_status = kExitError;
             return;

@@ -1,0 +1,35 @@
+#include "seed_tally.hpp"
+
+#include <string>
+
+#include "cli_common.hpp"
+
+namespace mrjam::cli {
+
+SeedTally tally_seeds(const nlohmann::json& records) {
+    SeedTally t;
+    for (const auto& run : records) {
+        ++t.seeds;
+        // A seed with no no-field flux (`undetermined`) says nothing about jamming: it is left
+        // out of the probabilities, not counted as a flow.
+        if (run.value("outcome", std::string()) == "undetermined") continue;
+        ++t.judged;
+        const bool arrested = run["time_to_arrest_s"].is_number();  // a number exactly when the seed arrested
+        if (arrested) t.arrest_times.push_back(run["time_to_arrest_s"].get<double>());
+        t.jams += run.value("stops_flow", arrested);  // checkpoints from before stops_flow: the arrest alone
+    }
+    return t;
+}
+
+nlohmann::json seed_probabilities(const SeedTally& t) {
+    const int arrests = static_cast<int>(t.arrest_times.size());
+    auto share = [&](int k) { return t.judged > 0 ? nlohmann::json(static_cast<double>(k) / t.judged) : nlohmann::json(nullptr); };
+    auto interval = [&](int k) { return t.judged > 0 ? interval_json(wilson_interval(k, t.judged)) : nlohmann::json(nullptr); };
+    return {{"jam_probability", share(t.jams)},
+            {"arrest_probability", share(arrests)},
+            {"jam_probability_95ci", interval(t.jams)},
+            {"arrest_probability_95ci", interval(arrests)},
+            {"undetermined_seeds", t.seeds - t.judged}};
+}
+
+}  // namespace mrjam::cli
