@@ -11,6 +11,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "seed_tally.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/open_flow.hpp"
 #include "magnetic/external_field.hpp"
@@ -64,7 +65,7 @@ auto within_block(const std::string& block, Read&& read) {
         return read();
     } catch (const SceneError& e) {
         if (e.path().empty() || e.path()[0] != '/') throw;
-        throw SceneError(block + e.path(), std::string(e.what()).substr(e.path().size() + 2));
+        throw e.at(block + e.path());
     }
 }
 
@@ -128,8 +129,9 @@ void add_design_command(CLI::App& app, int& exit_status) {
                            "key (set the design's output_directory instead)");
             return within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
         };
-        json jam_inputs;  // the last jam scene built, as `mrjam jam --resume` reads it from a checkpoint
-        auto jam_scene = [&](const fs::path& dir, json valve, const json& field) {
+        // The jam scene as written for one constriction (also what `mrjam jam --resume` reads back
+        // from its checkpoint), and the scene read from it.
+        auto jam_inputs = [&](const fs::path& dir, json valve, const json& field) {
             json jscene = jam_block;
             for (const char* k : {"upstream_length", "downstream_length"}) valve.erase(k);
             set_design_key(jscene, "/jam", "valve", std::move(valve),
@@ -141,20 +143,20 @@ void add_design_command(CLI::App& app, int& exit_status) {
             set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
                            "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
                            "(set the design's output_directory instead)");
-            jam_inputs = jscene;
+            return jscene;
+        };
+        auto jam_scene = [&](const json& jscene) {
             return within_block("/jam", [&] { return read_jam_scene(jscene, args->fidelity, base); });
         };
         // Every scene is checked before the first solve: a bad jam block must not cost a field solve.
         for (std::size_t i = 0; i < constrictions.size(); ++i) try {
                 const auto& [name, diameter] = constrictions[i];
                 const auto ms = magnetics_scene(out_dir / name, diameter);
-                jam_scene(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}});
+                jam_scene(jam_inputs(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}}));
             } catch (const SceneError& e) {
                 // A throat the valve or the grains cannot take is the list entry's fault.
-                const std::string& path = e.path();
-                if (path.ends_with("/valve/constriction_diameter"))
-                    throw SceneError("/constrictions/" + std::to_string(i),
-                                     std::string(e.what()).substr(path.size() + 2));
+                if (e.path().ends_with("/valve/constriction_diameter"))
+                    throw e.at("/constrictions/" + std::to_string(i));
                 throw;
             }
         std::error_code made;
@@ -196,40 +198,37 @@ void add_design_command(CLI::App& app, int& exit_status) {
             try {
                 solved = magnetics::compute_epm_field(ms.request);
             } catch (const std::exception& e) {
-                // Ctrl-C reaches gmsh or GetDP too, which then fail: an interruption, not a solver fault.
-                if (interrupt_requested()) {
-                    write_report("interrupted", {{"constriction", name}, {"stage", "field solve"}});
-                    std::cerr << "[design] interrupted during the field solve for " << name
-                              << "; the constrictions finished before it are in " << args->report << "\n";
-                    exit_status = kExitInterrupted;
-                    return;
+                // Ctrl-C reaches gmsh or GetDP too, which then fail: an interruption (below), not a
+                // solver fault. A mesh or solver failure: keep what is done, then fail.
+                if (!interrupt_requested()) {
+                    write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
+                    throw;
                 }
-                // A mesh or solver failure: keep what is done, then fail.
-                write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
-                throw;
             }
-            const auto& field = *solved;
-            if (interrupt_requested()) {  // Ctrl-C that reached mrjam alone: stop before the jam run
+            // Interrupted in the solve, or (Ctrl-C that reached mrjam alone) during it: stop before the jam run.
+            if (interrupt_requested()) {
                 write_report("interrupted", {{"constriction", name}, {"stage", "field solve"}});
-                std::cerr << "[design] interrupted after the field solve for " << name
+                std::cerr << "[design] interrupted at the field solve for " << name
                           << "; the constrictions finished before it are in " << args->report << "\n";
                 exit_status = kExitInterrupted;
                 return;
             }
+            const auto& field = *solved;
             fs::remove_all(ms.request.work_dir);
             const fs::path map = dir / "field.map";
             const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,
                                      field.fluid_map.values);
             field_map.write(map.string());
             // 2. The jam predictor in that field, with the same valve.
-            const JamScene js = jam_scene(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
+            const json jscene =
+                jam_inputs(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
+            const JamScene js = jam_scene(jscene);
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are reported.
             const double taper_middle_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
                                         {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},
                                         {"taper_middle_z_m", taper_middle_z}};
-            int jams = 0, arrests = 0, undetermined = 0;
             json runs = json::array();
             json first_report = nullptr;
             for (int k = 0; k < seeds; ++k) {
@@ -239,7 +238,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
                 // This constriction's seeds as `mrjam jam` records them, so an interrupted run's
                 // checkpoint resumes with `mrjam jam --resume` (that constriction only).
-                options.campaign = {{"scene", jam_inputs}, {"tier", args->fidelity}, {"base_directory", base},
+                options.campaign = {{"scene", jscene}, {"tier", args->fidelity}, {"base_directory", base},
                                     {"seeds", seeds}, {"seed_index", k}, {"runs", runs},
                                     {"first_report", first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
                 const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
@@ -259,10 +258,6 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
                 }
-                const bool judged = o.report["results"]["outcome"] != "undetermined";  // no no-field flux
-                undetermined += !judged;
-                jams += judged && o.stops_flow;  // with a hold (protocol/hold_time), only arrests that held
-                arrests += judged && o.jammed;
                 json record = jam_seed_record(o);
                 if (k == 0) first_report = o.report;
                 record["seed"] = js.engine_scene["seed"].get<long long>() + k;
@@ -275,25 +270,25 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const double mu = js.resolved["fluid"].value("viscosity", 0.16);
             const double rho_s = phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
             const OpenFlowEstimate flow = open_flow_estimate(js.valve, mu, phi, rho_s, js.flow.supply_pressure);
-            // Seeds without a no-field flux are left out; a constriction with none judged cannot be named.
-            const int judged = seeds - undetermined;
-            const double probability = judged > 0 ? static_cast<double>(jams) / judged : 0.0;
-            if (judged > 0 && probability >= required && diameter > widest_d) { widest_d = diameter; widest = name; }
-            if (undetermined > 0)
-                std::cerr << "[design] warning: " << name << ": " << undetermined << " of " << seeds
+            // Seeds without a no-field flux are left out (with a hold, only arrests that held are
+            // jams); a constriction with none judged cannot be named.
+            const SeedTally tally = tally_seeds(runs);
+            if (tally.judged > 0 && static_cast<double>(tally.jams) / tally.judged >= required && diameter > widest_d) {
+                widest_d = diameter;
+                widest = name;
+            }
+            if (tally.judged < seeds)
+                std::cerr << "[design] warning: " << name << ": " << seeds - tally.judged << " of " << seeds
                           << " seed(s) undetermined (no grain crossed without field), left out\n";
-            rows.push_back({{"constriction", name}, {"diameter_m", diameter},
-                            {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
-                            {"B_on_axis", field_on_axis},
-                            {"jam_probability", judged > 0 ? json(probability) : json(nullptr)},
-                            {"arrest_probability", judged > 0 ? json(static_cast<double>(arrests) / judged) : json(nullptr)},
-                            {"jam_probability_95ci", judged > 0 ? interval_json(wilson_interval(jams, judged)) : json(nullptr)},
-                            {"arrest_probability_95ci", judged > 0 ? interval_json(wilson_interval(arrests, judged)) : json(nullptr)},
-                            {"undetermined_seeds", undetermined},
-                            {"runs", runs},
-                            {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
-                            {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
-                            {"field_map", map.string()}});
+            json row = {{"constriction", name}, {"diameter_m", diameter},
+                        {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
+                        {"B_on_axis", field_on_axis},
+                        {"runs", runs},
+                        {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
+                        {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
+                        {"field_map", map.string()}};
+            row.update(seed_probabilities(tally));
+            rows.push_back(row);
         }
         write_report("complete", nullptr);
         if (!args->quiet)
