@@ -11,7 +11,9 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "design_progress.hpp"
 #include "seed_tally.hpp"
+#include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/open_flow.hpp"
 #include "magnetic/external_field.hpp"
@@ -34,6 +36,7 @@ struct DesignArgs {
     std::string fidelity = "quick";
     int threads = 1;
     bool quiet = false;
+    bool resume = false;
 };
 
 std::vector<std::pair<std::string, double>> read_constrictions(const json& list) {
@@ -69,6 +72,11 @@ auto within_block(const std::string& block, Read&& read) {
     }
 }
 
+// Whether a constriction's jam checkpoint is of seed `k` of this design's scene for it.
+bool resumes_seed(const JamCheckpoint& ck, const json& jscene, int k) {
+    return ck.campaign.is_object() && ck.campaign.value("seed_index", -1) == k && ck.campaign.value("scene", json()) == jscene;
+}
+
 // Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
 // would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
 void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
@@ -83,11 +91,14 @@ void add_design_command(CLI::App& app, int& exit_status) {
     CLI::App* cmd = app.add_subcommand("design", "Magnetics -> field map -> jam predictor, for a list of constrictions");
     cmd->add_option("scene", args->scene, "Design JSON (see docs/jam.md)")->required();
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
-        ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
+                                ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->callback([args, &exit_status] {
+    cmd->add_flag("--resume", args->resume,
+                  "Continue the interrupted design of this file: finished constrictions and solved fields are kept, "
+                  "the running seed resumes from its checkpoint");
+    cmd->callback([args, fidelity, &exit_status] {
         const json design = read_json_file(args->scene);
         if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
         // The design's own keys; `magnetics` and `jam` are scenes of those modes, checked by their readers.
@@ -108,6 +119,15 @@ void add_design_command(CLI::App& app, int& exit_status) {
         if (out_dir.empty()) throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
         root.finish();
         prepare_output_file(args->report, "--report");
+        // What is done already: all of it read back with --resume, nothing otherwise.
+        DesignProgress progress;
+        if (args->resume) {
+            progress = read_design_progress(out_dir, design, fidelity->count() > 0 ? args->fidelity : "");
+            args->fidelity = progress.fidelity;
+        } else {
+            progress.inputs = design;
+            progress.fidelity = args->fidelity;
+        }
         const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
@@ -168,85 +188,114 @@ void add_design_command(CLI::App& app, int& exit_status) {
         // handler, an interrupt during a field solve would end the process with nothing written.
         install_interrupt_handler();
         const auto started = std::chrono::steady_clock::now();
-        json rows = json::array();
-        std::string widest;
-        double widest_d = 0;
+        const std::string resume_hint = "mrjam design " + args->scene + " --resume";
         // The design report, written when the design ends and also when a jam run stops it
         // (a blow-up, Ctrl-C): the constrictions finished by then are not lost.
         auto write_report = [&](const std::string& status, const json& stopped) {
-            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            const double wall = progress.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
             json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", status},
                            {"scene_file", args->scene}, {"inputs", design}, {"inputs_design", resolved},
                            {"fidelity", {{"jam_tier", args->fidelity}, {"magnetics_tier", magnetics_tier}}},
-                           {"results", {{"constrictions", rows},
-                                        {"widest_reliable_constriction", widest.empty() ? json(nullptr) : json(widest)},
+                           {"results", {{"constrictions", progress.rows},
+                                        {"widest_reliable_constriction", progress.widest.empty() ? json(nullptr) : json(progress.widest)},
                                         {"required_jam_probability", required},
                                         {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
                                                             "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}},
                            {"wall_time_s", wall}};
             if (!stopped.is_null()) report["stopped"] = stopped;
+            if (status == "interrupted") report["resume_with"] = resume_hint;
+            if (args->resume) report["resumed"] = true;
             write_json_file(args->report, report);
         };
-        for (const auto& [name, diameter] : constrictions) {
+        // Saved after every field solve and every seed; the wall time counts every run of the design.
+        auto save_progress = [&] {
+            DesignProgress saved = progress;
+            saved.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            write_design_progress(out_dir, saved);
+        };
+        auto interrupted = [&](const json& stopped) {
+            write_report("interrupted", stopped);
+            std::cerr << "[design] interrupted at the " << stopped["stage"].get<std::string>() << " for "
+                      << stopped["constriction"].get<std::string>() << "; the constrictions finished before it are in "
+                      << args->report << "; continue with: " << resume_hint << "\n";
+            exit_status = kExitInterrupted;
+        };
+        save_progress();
+        for (std::size_t c = 0; c < constrictions.size(); ++c) {
+            const auto& [name, diameter] = constrictions[c];
+            if (c < progress.rows.size()) continue;  // finished before the interruption
             const fs::path dir = out_dir / name;
-            fs::create_directories(dir);
-            // 1. The field of this valve.
-            auto ms = magnetics_scene(dir, diameter);
-            ms.request.work_dir = dir / "magnetics" / "solver";
-            if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
-            std::optional<decltype(magnetics::compute_epm_field(ms.request))> solved;
-            try {
-                solved = magnetics::compute_epm_field(ms.request);
-            } catch (const std::exception& e) {
-                // Ctrl-C reaches gmsh or GetDP too, which then fail: an interruption (below), not a
-                // solver fault. A mesh or solver failure: keep what is done, then fail.
-                if (!interrupt_requested()) {
-                    write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
-                    throw;
-                }
-            }
-            // Interrupted in the solve, or (Ctrl-C that reached mrjam alone) during it: stop before the jam run.
-            if (interrupt_requested()) {
-                write_report("interrupted", {{"constriction", name}, {"stage", "field solve"}});
-                std::cerr << "[design] interrupted at the field solve for " << name
-                          << "; the constrictions finished before it are in " << args->report << "\n";
-                exit_status = kExitInterrupted;
-                return;
-            }
-            const auto& field = *solved;
-            fs::remove_all(ms.request.work_dir);
             const fs::path map = dir / "field.map";
-            const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,
-                                     field.fluid_map.values);
-            field_map.write(map.string());
+            const fs::path checkpoint = dir / "jam" / "checkpoint.mrjam";
+            fs::create_directories(dir);
+            // 1. The field of this valve, unless an interrupted run solved it already.
+            auto ms = magnetics_scene(dir, diameter);
+            if (progress.field.is_null() || !fs::exists(map)) {
+                ms.request.work_dir = dir / "magnetics" / "solver";
+                if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
+                std::optional<decltype(magnetics::compute_epm_field(ms.request))> solved;
+                try {
+                    solved = magnetics::compute_epm_field(ms.request);
+                } catch (const std::exception& e) {
+                    // Ctrl-C reaches gmsh or GetDP too, which then fail: an interruption (below), not a
+                    // solver fault. A mesh or solver failure: keep what is done, then fail.
+                    if (!interrupt_requested()) {
+                        write_report("failed", {{"constriction", name}, {"stage", "field solve"}, {"error", e.what()}});
+                        throw;
+                    }
+                }
+                // Interrupted in the solve, or (Ctrl-C that reached mrjam alone) during it: stop before the jam run.
+                if (interrupt_requested()) return interrupted({{"constriction", name}, {"stage", "field solve"}});
+                const auto& field = *solved;
+                fs::remove_all(ms.request.work_dir);
+                const FieldMap field_map(field.fluid_map.count, field.fluid_map.origin, field.fluid_map.spacing,
+                                         field.fluid_map.values);
+                field_map.write(map.string());
+                // A checkpoint left here by an earlier design in this directory is not this run's.
+                fs::remove(checkpoint);
+                progress.field = {{"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active}};
+                progress.runs = json::array();
+                progress.first_report = nullptr;
+                save_progress();
+            } else if (!args->quiet) {
+                std::cerr << "[design] " << name << ": the field solved before the interruption, " << map << "\n";
+            }
             // 2. The jam predictor in that field, with the same valve.
             const json jscene =
                 jam_inputs(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
             const JamScene js = jam_scene(jscene);
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
-            // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are reported.
+            // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are
+            // reported, from the map as written (17 digits: as solved).
+            const FieldMap field_map = FieldMap::read(map.string());
             const double taper_middle_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
                                         {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},
                                         {"taper_middle_z_m", taper_middle_z}};
-            json runs = json::array();
-            json first_report = nullptr;
-            for (int k = 0; k < seeds; ++k) {
+            for (int k = static_cast<int>(progress.runs.size()); k < seeds; ++k) {
                 JamRunOptions options;
                 options.threads = args->threads;
                 options.progress = !args->quiet;
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
                 // This constriction's seeds as `mrjam jam` records them, so an interrupted run's
-                // checkpoint resumes with `mrjam jam --resume` (that constriction only).
+                // checkpoint resumes with `mrjam design --resume` or `mrjam jam --resume` (that constriction only).
                 options.campaign = {{"scene", jscene}, {"tier", args->fidelity}, {"base_directory", base},
-                                    {"seeds", seeds}, {"seed_index", k}, {"runs", runs},
-                                    {"first_report", first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
+                                    {"seeds", seeds}, {"seed_index", k}, {"runs", progress.runs},
+                                    {"first_report", progress.first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
+                // The seed that was running when the design was interrupted (a finished seed leaves no checkpoint).
+                if (args->resume && fs::exists(checkpoint) && resumes_seed(read_jam_checkpoint(checkpoint.string()), jscene, k)) {
+                    options.resume_checkpoint = checkpoint.string();
+                    if (!args->quiet) std::cerr << "[design] " << name << ": resuming seed " << k + 1 << " from " << checkpoint << "\n";
+                }
                 const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
                 const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(k) + ".json");
                 json jam_report = o.report;
                 jam_report["inputs_jam"] = js.resolved;
                 write_json_file(seed_report.string(), jam_report);
+                if (o.exit_status == kExitInterrupted)
+                    return interrupted({{"constriction", name}, {"stage", "jam run"}, {"seed", k},
+                                        {"jam_report", seed_report.string()}, {"checkpoint", checkpoint.string()}});
                 if (o.exit_status != 0) {
                     exit_status = o.exit_status;
                     // Say why it stopped: a blow-up's cause and its fixes are in the report's "error".
@@ -259,11 +308,12 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     return;
                 }
                 json record = jam_seed_record(o);
-                if (k == 0) first_report = o.report;
+                if (k == 0) progress.first_report = o.report;
                 record["seed"] = js.engine_scene["seed"].get<long long>() + k;
                 record["status"] = o.report["status"];
-                runs.push_back(record);
-                runs.back()["jam_report"] = seed_report.string();
+                record["jam_report"] = seed_report.string();
+                progress.runs.push_back(record);
+                save_progress();
             }
             // 3. The open valve's flow at the supply pressure.
             const double phi = js.resolved["grains"].value("volume_fraction", 0.345);
@@ -272,27 +322,33 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const OpenFlowEstimate flow = open_flow_estimate(js.valve, mu, phi, rho_s, js.flow.supply_pressure);
             // Seeds without a no-field flux are left out (with a hold, only arrests that held are
             // jams); a constriction with none judged cannot be named.
-            const SeedTally tally = tally_seeds(runs);
-            if (tally.judged > 0 && static_cast<double>(tally.jams) / tally.judged >= required && diameter > widest_d) {
-                widest_d = diameter;
-                widest = name;
+            const SeedTally tally = tally_seeds(progress.runs);
+            if (tally.judged > 0 && static_cast<double>(tally.jams) / tally.judged >= required &&
+                diameter > progress.widest_diameter) {
+                progress.widest_diameter = diameter;
+                progress.widest = name;
             }
             if (tally.judged < seeds)
                 std::cerr << "[design] warning: " << name << ": " << seeds - tally.judged << " of " << seeds
                           << " seed(s) undetermined (no grain crossed without field), left out\n";
             json row = {{"constriction", name}, {"diameter_m", diameter},
-                        {"mean_B_active_T", field.mean_b_active}, {"max_B_active_T", field.max_b_active},
+                        {"mean_B_active_T", progress.field["mean_B_active_T"]},
+                        {"max_B_active_T", progress.field["max_B_active_T"]},
                         {"B_on_axis", field_on_axis},
-                        {"runs", runs},
+                        {"runs", progress.runs},
                         {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
                         {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                         {"field_map", map.string()}};
             row.update(seed_probabilities(tally));
-            rows.push_back(row);
+            progress.rows.push_back(row);
+            progress.field = nullptr;
+            progress.runs = json::array();
+            progress.first_report = nullptr;
+            save_progress();
         }
         write_report("complete", nullptr);
         if (!args->quiet)
-            std::cerr << "[design] widest constriction that jams reliably: " << (widest.empty() ? "none" : widest)
+            std::cerr << "[design] widest constriction that jams reliably: " << (progress.widest.empty() ? "none" : progress.widest)
                       << "; report " << args->report << "\n";
         exit_status = 0;
     });

@@ -842,4 +842,94 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
     }
 }
 
+// An interrupted design resumes where it stopped and ends as the uninterrupted design: two seeds
+// on one constriction, Ctrl-C about half-way through the second seed (the field solve, about a
+// second, and the first seed before it), so the second seed resumes from its checkpoint after the
+// first seed's record is read back from the design's progress; a signal that lands in the first
+// seed or in the meshing is resumed just as well (a signal during GetDP's solve is ignored by
+// mrjam, which waits on it: then the run finishes and there is nothing to resume).
+TEST_CASE("design --resume: an interrupted design ends as the uninterrupted one") {
+    if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
+    TempDir dir;
+    auto design_in = [&](const std::string& out) {
+        return json{{"constrictions", {"30x"}}, {"seeds", 2},
+                    {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
+                    {"jam", {{"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                             {"fluid", {{"flow", "pressure"}}},
+                             {"protocol", {{"flow_time", "0.05 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"},
+                                           {"release_time", "0.02 ms"}}}}},
+                    {"output_directory", dir.file(out)}};
+    };
+    write_text(dir.file("full.json"), design_in("full").dump());
+    const Result full = mrjam_test::mrjam(dir, "design " + quote(dir.file("full.json")) + " --report " +
+                                                   quote(dir.file("full_report.json")) + " --fidelity quick --quiet");
+    CAPTURE(full.err);
+    REQUIRE(full.exit_code == 0);
+    const json a = json::parse(slurp(dir.file("full_report.json")));
+    // Nothing to resume in a directory without a design in progress, and a design resumed with
+    // another tier or after its file changed would not be the design that was started.
+    write_text(dir.file("cut.json"), design_in("cut").dump());
+    const Result nothing = mrjam_test::mrjam(dir, "design " + quote(dir.file("cut.json")) + " --resume --quiet");
+    CHECK(nothing.exit_code == 2);
+    CHECK(nothing.err.find("--resume") != std::string::npos);
+
+    const double jam_seed_s = json::parse(slurp(dir.file("full/30x/jam_report_seed1.json")))["wall_time_s"].get<double>();
+    const double delay = std::max(0.1, a["wall_time_s"].get<double>() - 0.5 * jam_seed_s);
+    const Result cut = mrjam_test::mrjam(dir, "design " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
+                                                  " --fidelity quick --quiet",
+                                         " & pid=$!; sleep " + std::to_string(delay) + "; kill -INT $pid; wait $pid");
+    if (cut.exit_code == 0) {
+        MESSAGE("the signal missed the design (it finished first, or came during GetDP's solve): nothing to resume");
+        return;
+    }
+    CAPTURE(cut.err);
+    REQUIRE(cut.exit_code == 130);
+    const json c = json::parse(slurp(dir.file("cut_report.json")));
+    CHECK(c["status"] == "interrupted");
+    CHECK(c["resume_with"].get<std::string>().find("--resume") != std::string::npos);
+    MESSAGE("interrupted at the " << c["stopped"]["stage"].get<std::string>() << ", seed " << c["stopped"].value("seed", -1));
+
+    json changed = design_in("cut");
+    changed["seeds"] = 3;
+    write_text(dir.file("changed.json"), changed.dump());
+    const Result refused = mrjam_test::mrjam(dir, "design " + quote(dir.file("changed.json")) + " --resume --quiet");
+    CHECK(refused.exit_code == 2);
+    CHECK(refused.err.find("changed") != std::string::npos);
+    const Result other_tier = mrjam_test::mrjam(dir, "design " + quote(dir.file("cut.json")) + " --resume --fidelity standard --quiet");
+    CHECK(other_tier.exit_code == 2);
+    CHECK(other_tier.err.find("--fidelity") != std::string::npos);
+
+    const Result resumed = mrjam_test::mrjam(dir, "design " + quote(dir.file("cut.json")) + " --report " +
+                                                      quote(dir.file("resumed_report.json")) + " --resume --quiet");
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    const json b = json::parse(slurp(dir.file("resumed_report.json")));
+    CHECK(b["status"] == "complete");
+    CHECK(b["resumed"] == true);
+    CHECK(b["fidelity"] == a["fidelity"]);
+    // Everything but where the files went: the field, every seed's outcome, flux shares and
+    // times, the open flow; bit for bit, as one thread sums in the same order.
+    auto results = [](json report, const std::string& out) {
+        json rows = report["results"]["constrictions"];
+        for (auto& row : rows) {
+            CHECK(row["field_map"].get<std::string>().find(out) != std::string::npos);
+            row.erase("field_map");
+            for (auto& run : row["runs"]) run.erase("jam_report");
+        }
+        return rows;
+    };
+    CHECK(results(b, "cut") == results(a, "full"));
+    CHECK(b["results"]["widest_reliable_constriction"] == a["results"]["widest_reliable_constriction"]);
+    // It continued the interrupted seed rather than running it again.
+    if (c["stopped"]["stage"] == "jam run") {
+        const std::string seed_report = c["stopped"]["seed"] == 0 ? "jam_report.json" : "jam_report_seed1.json";
+        const auto steps_run = [&](const std::string& out) {
+            return json::parse(slurp(dir.file(out + "/30x/" + seed_report)))["performance"]["steps_run"].get<long>();
+        };
+        CHECK(steps_run("cut") < steps_run("full"));
+    }
+    // A finished seed leaves no checkpoint to be resumed by mistake.
+    CHECK_FALSE(std::filesystem::exists(dir.file("cut/30x/jam/checkpoint.mrjam")));
+}
+
 }  // TEST_SUITE

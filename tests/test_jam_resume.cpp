@@ -425,6 +425,8 @@ TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterr
     const json b = json::parse(slurp(dir.file("resumed.json")));
     CHECK(b["results"]["flux_history"]["partial"] == false);
     CHECK(comparable(b)["results"] == comparable(a)["results"]);
+    // Once complete, the checkpoint is gone: resumed again it would run the end again.
+    CHECK_FALSE(fs::exists(c["checkpoint"].get<std::string>()));
 }
 
 TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {

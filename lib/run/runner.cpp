@@ -253,6 +253,13 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
         std::fprintf(stderr, "[%s] interrupted at step %ld; checkpoint written to %s\n", options.mode.c_str(), s.step,
                      checkpoint.c_str());
     }
+    // The checkpoints written against an interruption (every few minutes) are of no use once the
+    // run is complete, and resuming one would run its end again; those asked for by step count
+    // are the user's and stay.
+    if (status == "complete" && scene.output.checkpoint_every_steps == 0) {
+        std::error_code ignored;
+        std::filesystem::remove(checkpoint, ignored);
+    }
     const double wall = seconds_since(t0);
     const long steps_run = steps_advanced;
     report["status"] = status;
