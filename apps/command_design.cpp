@@ -12,6 +12,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "design_progress.hpp"
+#include "design_scenes.hpp"
 #include "seed_tally.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
@@ -22,7 +23,6 @@
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
-#include "scene/units.hpp"
 
 namespace mrjam::cli {
 
@@ -39,50 +39,9 @@ struct DesignArgs {
     bool resume = false;
 };
 
-std::vector<std::pair<std::string, double>> read_constrictions(const json& list) {
-    std::vector<std::pair<std::string, double>> out;
-    if (!list.is_array() || list.empty())
-        throw SceneError("/constrictions", "give a non-empty list of presets (\"20x\") or diameters (\"1.2 mm\")");
-    for (std::size_t i = 0; i < list.size(); ++i) {
-        const std::string path = "/constrictions/" + std::to_string(i);
-        if (!list[i].is_string()) throw SceneError(path, "a preset name or a diameter with units");
-        const std::string text = list[i].get<std::string>();
-        double d = constriction_preset(text);
-        if (d == 0) {
-            try {
-                d = units::parse_as(text, units::length);
-            } catch (const std::exception& e) {
-                throw SceneError(path, e.what());
-            }
-        }
-        out.push_back({text, d});
-    }
-    return out;
-}
-
-// Runs a block's scene reader and names its errors from the design file's root: "/jam/protocol/..."
-// rather than the block's own "/protocol/...".
-template <class Read>
-auto within_block(const std::string& block, Read&& read) {
-    try {
-        return read();
-    } catch (const SceneError& e) {
-        if (e.path().empty() || e.path()[0] != '/') throw;
-        throw e.at(block + e.path());
-    }
-}
-
 // Whether a constriction's jam checkpoint is of seed `k` of this design's scene for it.
 bool resumes_seed(const JamCheckpoint& ck, const json& jscene, int k) {
     return ck.campaign.is_object() && ck.campaign.value("seed_index", -1) == k && ck.campaign.value("scene", json()) == jscene;
-}
-
-// Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
-// would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
-void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
-                    const std::string& fix) {
-    if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);
-    scene[key] = std::move(value);
 }
 }  // namespace
 
@@ -100,24 +59,10 @@ void add_design_command(CLI::App& app, int& exit_status) {
                   "the running seed resumes from its checkpoint");
     cmd->callback([args, fidelity, &exit_status] {
         const json design = read_json_file(args->scene);
-        if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
-        // The design's own keys; `magnetics` and `jam` are scenes of those modes, checked by their readers.
-        json resolved;
-        SceneNode root(design, resolved, "");
-        root.text("description", "");
-        const json& magnetics_block = design.contains("magnetics") ? root.raw("magnetics") : json::object();
-        const json& jam_block = design.contains("jam") ? root.raw("jam") : json::object();
-        for (const auto& [key, block] : {std::pair{"/magnetics", &magnetics_block}, std::pair{"/jam", &jam_block}})
-            if (!block->is_object()) throw SceneError(key, std::string("must be a JSON object (a scene of `mrjam ") + (key + 1) + "`)");
-        if (magnetics_block.contains("valve") && !magnetics_block["valve"].is_object())
-            throw SceneError("/magnetics/valve", "must be a JSON object (the valve's keys)");
-        const auto constrictions = read_constrictions(design.contains("constrictions") ? root.raw("constrictions")
-                                                                                       : json::array({"20x", "30x", "40x"}));
-        const double required = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
-        const int seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
-        const fs::path out_dir = root.text("output_directory", "out/design");
-        if (out_dir.empty()) throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
-        root.finish();
+        const DesignSpec spec = read_design_spec(design, args->scene);
+        const auto& constrictions = spec.constrictions;
+        const fs::path& out_dir = spec.output_directory;
+        const int seeds = spec.seeds;
         prepare_output_file(args->report, "--report");
         // What is done already: all of it read back with --resume, nothing otherwise.
         DesignProgress progress;
@@ -128,57 +73,13 @@ void add_design_command(CLI::App& app, int& exit_status) {
             progress.inputs = design;
             progress.fidelity = args->fidelity;
         }
-        const std::string base = fs::path(args->scene).parent_path().string();
         const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
             std::cerr << "error: getdp was not found on PATH; install it with `apt-get install getdp`\n";
             exit_status = kExitBadInput;
             return;
         }
-
-        // The scenes of each constriction; the jam scene's field is the map solved for it.
-        auto magnetics_scene = [&](const fs::path& dir, double diameter) {
-            json mscene = magnetics_block;
-            const std::string from_list = "the design takes its constrictions from its own `constrictions` list; remove this key";
-            json& valve = mscene["valve"];
-            if (valve.is_object() && valve.contains("constriction")) throw SceneError("/magnetics/valve/constriction", from_list);
-            set_design_key(valve, "/magnetics/valve", "constriction_diameter", diameter, from_list);
-            set_design_key(mscene, "/magnetics", "state", "on", "the design solves the magnet's ON state; remove this key");
-            set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
-                           "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
-                           "key (set the design's output_directory instead)");
-            return within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
-        };
-        // The jam scene as written for one constriction (also what `mrjam jam --resume` reads back
-        // from its checkpoint), and the scene read from it.
-        auto jam_inputs = [&](const fs::path& dir, json valve, const json& field) {
-            json jscene = jam_block;
-            for (const char* k : {"upstream_length", "downstream_length"}) valve.erase(k);
-            set_design_key(jscene, "/jam", "valve", std::move(valve),
-                           "the design's valve is magnetics/valve, one valve for both models; move these keys there "
-                           "(the tube lengths modelled are jam/model/upstream_length and downstream_length)");
-            set_design_key(jscene, "/jam", "field", field,
-                           "the design runs the jam predictor in the field it solved for each constriction; remove this "
-                           "key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
-            set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
-                           "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
-                           "(set the design's output_directory instead)");
-            return jscene;
-        };
-        auto jam_scene = [&](const json& jscene) {
-            return within_block("/jam", [&] { return read_jam_scene(jscene, args->fidelity, base); });
-        };
-        // Every scene is checked before the first solve: a bad jam block must not cost a field solve.
-        for (std::size_t i = 0; i < constrictions.size(); ++i) try {
-                const auto& [name, diameter] = constrictions[i];
-                const auto ms = magnetics_scene(out_dir / name, diameter);
-                jam_scene(jam_inputs(out_dir / name, ms.resolved["valve"], json{{"type", "uniform"}}));
-            } catch (const SceneError& e) {
-                // A throat the valve or the grains cannot take is the list entry's fault.
-                if (e.path().ends_with("/valve/constriction_diameter"))
-                    throw e.at("/constrictions/" + std::to_string(i));
-                throw;
-            }
+        check_design_scenes(spec, magnetics_tier, args->fidelity);
         std::error_code made;
         fs::create_directories(out_dir, made);
         if (made || !fs::is_directory(out_dir))
@@ -194,11 +95,11 @@ void add_design_command(CLI::App& app, int& exit_status) {
         auto write_report = [&](const std::string& status, const json& stopped) {
             const double wall = progress.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
             json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", status},
-                           {"scene_file", args->scene}, {"inputs", design}, {"inputs_design", resolved},
+                           {"scene_file", args->scene}, {"inputs", design}, {"inputs_design", spec.resolved},
                            {"fidelity", {{"jam_tier", args->fidelity}, {"magnetics_tier", magnetics_tier}}},
                            {"results", {{"constrictions", progress.rows},
                                         {"widest_reliable_constriction", progress.widest.empty() ? json(nullptr) : json(progress.widest)},
-                                        {"required_jam_probability", required},
+                                        {"required_jam_probability", spec.required_jam_probability},
                                         {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
                                                             "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}},
                            {"wall_time_s", wall}};
@@ -229,7 +130,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const fs::path checkpoint = dir / "jam" / "checkpoint.mrjam";
             fs::create_directories(dir);
             // 1. The field of this valve, unless an interrupted run solved it already.
-            auto ms = magnetics_scene(dir, diameter);
+            auto ms = design_magnetics_scene(spec, dir, diameter, magnetics_tier);
             if (progress.field.is_null() || !fs::exists(map)) {
                 ms.request.work_dir = dir / "magnetics" / "solver";
                 if (!args->quiet) std::cerr << "[design] " << name << ": solving the field\n";
@@ -262,8 +163,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
             }
             // 2. The jam predictor in that field, with the same valve.
             const json jscene =
-                jam_inputs(dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
-            const JamScene js = jam_scene(jscene);
+                design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
+            const JamScene js = design_jam_scene(spec, jscene, args->fidelity);
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are
             // reported, from the map as written (17 digits: as solved).
@@ -279,7 +180,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
                 // This constriction's seeds as `mrjam jam` records them, so an interrupted run's
                 // checkpoint resumes with `mrjam design --resume` or `mrjam jam --resume` (that constriction only).
-                options.campaign = {{"scene", jscene}, {"tier", args->fidelity}, {"base_directory", base},
+                options.campaign = {{"scene", jscene}, {"tier", args->fidelity}, {"base_directory", spec.base_directory},
                                     {"seeds", seeds}, {"seed_index", k}, {"runs", progress.runs},
                                     {"first_report", progress.first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
                 // The seed that was running when the design was interrupted (a finished seed leaves no checkpoint).
@@ -323,7 +224,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             // Seeds without a no-field flux are left out (with a hold, only arrests that held are
             // jams); a constriction with none judged cannot be named.
             const SeedTally tally = tally_seeds(progress.runs);
-            if (tally.judged > 0 && static_cast<double>(tally.jams) / tally.judged >= required &&
+            if (tally.judged > 0 && static_cast<double>(tally.jams) / tally.judged >= spec.required_jam_probability &&
                 diameter > progress.widest_diameter) {
                 progress.widest_diameter = diameter;
                 progress.widest = name;

@@ -1,0 +1,123 @@
+#include "design_scenes.hpp"
+
+#include "scene/scene_node.hpp"
+#include "scene/units.hpp"
+
+namespace mrjam::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+std::vector<std::pair<std::string, double>> read_constrictions(const json& list) {
+    std::vector<std::pair<std::string, double>> out;
+    if (!list.is_array() || list.empty())
+        throw SceneError("/constrictions", "give a non-empty list of presets (\"20x\") or diameters (\"1.2 mm\")");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string path = "/constrictions/" + std::to_string(i);
+        if (!list[i].is_string()) throw SceneError(path, "a preset name or a diameter with units");
+        const std::string text = list[i].get<std::string>();
+        double d = constriction_preset(text);
+        if (d == 0) {
+            try {
+                d = units::parse_as(text, units::length);
+            } catch (const std::exception& e) {
+                throw SceneError(path, e.what());
+            }
+        }
+        out.push_back({text, d});
+    }
+    return out;
+}
+
+// Runs a block's scene reader and names its errors from the design file's root: "/jam/protocol/..."
+// rather than the block's own "/protocol/...".
+template <class Read>
+auto within_block(const std::string& block, Read&& read) {
+    try {
+        return read();
+    } catch (const SceneError& e) {
+        if (e.path().empty() || e.path()[0] != '/') throw;
+        throw e.at(block + e.path());
+    }
+}
+
+// Sets a key of a sub-scene that the design owns for each constriction. A key the user gave there
+// would be overwritten without a word, so it is refused with `fix`, where the setting belongs.
+void set_design_key(json& scene, const std::string& scene_path, const std::string& key, json value,
+                    const std::string& fix) {
+    if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);
+    scene[key] = std::move(value);
+}
+}  // namespace
+
+DesignSpec read_design_spec(const json& design, const std::string& design_path) {
+    if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
+    DesignSpec spec;
+    spec.design = design;
+    // The design's own keys; `magnetics` and `jam` are scenes of those modes, checked by their readers.
+    SceneNode root(design, spec.resolved, "");
+    root.text("description", "");
+    if (design.contains("magnetics")) spec.magnetics_block = root.raw("magnetics");
+    if (design.contains("jam")) spec.jam_block = root.raw("jam");
+    for (const auto& [key, block] : {std::pair{"/magnetics", &spec.magnetics_block}, std::pair{"/jam", &spec.jam_block}})
+        if (!block->is_object()) throw SceneError(key, std::string("must be a JSON object (a scene of `mrjam ") + (key + 1) + "`)");
+    if (spec.magnetics_block.contains("valve") && !spec.magnetics_block["valve"].is_object())
+        throw SceneError("/magnetics/valve", "must be a JSON object (the valve's keys)");
+    spec.constrictions = read_constrictions(design.contains("constrictions") ? root.raw("constrictions")
+                                                                             : json::array({"20x", "30x", "40x"}));
+    spec.required_jam_probability = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
+    spec.seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
+    spec.output_directory = root.text("output_directory", "out/design");
+    if (spec.output_directory.empty()) throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
+    root.finish();
+    spec.base_directory = fs::path(design_path).parent_path().string();
+    return spec;
+}
+
+magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const fs::path& dir, double diameter,
+                                                 const std::string& magnetics_tier) {
+    json mscene = spec.magnetics_block;
+    const std::string from_list = "the design takes its constrictions from its own `constrictions` list; remove this key";
+    json& valve = mscene["valve"];
+    if (valve.is_object() && valve.contains("constriction")) throw SceneError("/magnetics/valve/constriction", from_list);
+    set_design_key(valve, "/magnetics/valve", "constriction_diameter", diameter, from_list);
+    set_design_key(mscene, "/magnetics", "state", "on", "the design solves the magnet's ON state; remove this key");
+    set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
+                   "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
+                   "key (set the design's output_directory instead)");
+    return within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
+}
+
+json design_jam_inputs(const DesignSpec& spec, const fs::path& dir, json valve, const json& field) {
+    json jscene = spec.jam_block;
+    for (const char* k : {"upstream_length", "downstream_length"}) valve.erase(k);
+    set_design_key(jscene, "/jam", "valve", std::move(valve),
+                   "the design's valve is magnetics/valve, one valve for both models; move these keys there "
+                   "(the tube lengths modelled are jam/model/upstream_length and downstream_length)");
+    set_design_key(jscene, "/jam", "field", field,
+                   "the design runs the jam predictor in the field it solved for each constriction; remove this "
+                   "key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
+    set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
+                   "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
+                   "(set the design's output_directory instead)");
+    return jscene;
+}
+
+JamScene design_jam_scene(const DesignSpec& spec, const json& jam_inputs, const std::string& jam_tier) {
+    return within_block("/jam", [&] { return read_jam_scene(jam_inputs, jam_tier, spec.base_directory); });
+}
+
+void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_tier, const std::string& jam_tier) {
+    for (std::size_t i = 0; i < spec.constrictions.size(); ++i) try {
+            const auto& [name, diameter] = spec.constrictions[i];
+            const fs::path dir = spec.output_directory / name;
+            const auto ms = design_magnetics_scene(spec, dir, diameter, magnetics_tier);
+            design_jam_scene(spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
+        } catch (const SceneError& e) {
+            if (e.path().ends_with("/valve/constriction_diameter")) throw e.at("/constrictions/" + std::to_string(i));
+            throw;
+        }
+}
+
+}  // namespace mrjam::cli
