@@ -89,7 +89,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
         // handler, an interrupt during a field solve would end the process with nothing written.
         install_interrupt_handler();
         const auto started = std::chrono::steady_clock::now();
-        const std::string resume_hint = "mrjam design " + args->scene + " --resume";
+        const std::string resume_hint = "mrjam design " + args->scene + " --resume --report " + args->report;
         // The design report, written when the design ends and also when a jam run stops it
         // (a blow-up, Ctrl-C): the constrictions finished by then are not lost.
         auto write_report = [&](const std::string& status, const json& stopped) {
