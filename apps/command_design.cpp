@@ -188,7 +188,10 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     options.resume_checkpoint = checkpoint.string();
                     if (!args->quiet) std::cerr << "[design] " << name << ": resuming seed " << k + 1 << " from " << checkpoint << "\n";
                 }
-                const JamOutcome o = run_jam(js, js.engine_scene["seed"].get<long long>() + k, options);
+                const long long seed = js.engine_scene["seed"].get<long long>() + k;
+                if (!args->quiet)
+                    std::cerr << "[design] " << name << ": seed " << seed << " (" << k + 1 << "/" << seeds << ")\n";
+                const JamOutcome o = run_jam(js, seed, options);
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
                 const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(k) + ".json");
                 json jam_report = o.report;
@@ -210,10 +213,15 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 }
                 json record = jam_seed_record(o);
                 if (k == 0) progress.first_report = o.report;
-                record["seed"] = js.engine_scene["seed"].get<long long>() + k;
+                record["seed"] = seed;
                 record["status"] = o.report["status"];
                 record["jam_report"] = seed_report.string();
                 progress.runs.push_back(record);
+                if (!args->quiet) {
+                    std::cerr << "[design] " << name << " seed " << seed << ": " << record["outcome"].get<std::string>();
+                    if (o.time_to_arrest >= 0) std::cerr << ", arrest at " << o.time_to_arrest * 1e3 << " ms of field";
+                    std::cerr << "\n";
+                }
                 save_progress();
             }
             // 3. The open valve's flow at the supply pressure.
@@ -241,6 +249,9 @@ void add_design_command(CLI::App& app, int& exit_status) {
                         {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                         {"field_map", map.string()}};
             row.update(seed_probabilities(tally));
+            if (!args->quiet)
+                std::cerr << "[design] " << name << ": " << tally.jams << " jam(s) in " << tally.judged << " seed(s) judged; open flow "
+                          << flow.flow_rate * 6e7 << " ml/min\n";
             progress.rows.push_back(row);
             progress.field = nullptr;
             progress.runs = json::array();
