@@ -231,6 +231,37 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         expect_refused(dir, "wrong_type_seed", s, "/seed");
     }
     {
+        // A duration past any run's reach (here 1e30 s) once wrapped the step count round to a
+        // one-step run reported as complete.
+        json s = small_scene();
+        s["run"] = {{"duration", 1e30}};
+        const Result r = expect_refused(dir, "duration_overflow", s, "/run/duration");
+        CHECK(r.err.find("steps") != std::string::npos);
+        s["run"] = {{"duration", "1 ms"}, {"timestep", "1e-30 s"}};
+        expect_refused(dir, "timestep_tiny", s, "/run/duration");
+        // Nothing sets a time scale: no contact law, drag or damping.
+        s = small_scene();
+        s["contact"] = {{"model", "none"}};
+        expect_refused(dir, "no_step_limit", s, "/run/timestep");
+    }
+    {
+        // Rafts: two of one name in one stage would be one raft at the second's velocity; a
+        // release or a velocity must name a raft formed by then.
+        json s = small_scene();
+        s["run"].erase("steps");
+        const json region = {{"lo", {0, 0, 0}}, {"hi", {"6 mm", "6 mm", "1 mm"}}};
+        s["stages"] = {{{"name", "a"}, {"steps", 10},
+                        {"form_rafts", {{{"name", "lower"}, {"region", region}}, {{"name", "lower"}, {"region", region}}}}}};
+        expect_refused(dir, "raft_twice", s, "/stages/0/form_rafts/1/name");
+        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"release", {"lower"}}}};
+        expect_refused(dir, "release_unformed", s, "/stages/0/release");
+        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"raft_velocities", {{{"name", "lower"}, {"velocity", {0, 0, 0}}}}}}};
+        expect_refused(dir, "velocity_unformed", s, "/stages/0/raft_velocities/0/name");
+        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"form_rafts", {{{"name", "lower"}, {"region", region}}}}},
+                       {{"name", "b"}, {"duration", 1e30}, {"release", {"lower"}}}};
+        expect_refused(dir, "stage_duration_overflow", s, "/stages/1/duration");
+    }
+    {
         json s = small_scene();
         s["domain"]["hi"] = {"6 mm", "6 mm"};
         expect_refused(dir, "wrong_type_vector", s, "/domain/hi");

@@ -6,6 +6,7 @@
 // the tests (MRJAM_BINARY), run as tests/test_cli.cpp runs it.
 #include <doctest/doctest.h>
 
+#include "scene/scene.hpp"
 #include "test_support.hpp"
 
 #include <sys/wait.h>
@@ -185,6 +186,22 @@ TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path
         // Says what the file should hold and where relative paths start.
         CHECK(r.err.find("no field map at") != std::string::npos);
         CHECK(r.err.find("docs/scene.md") != std::string::npos);  // says where the format is described
+    }
+    {
+        // A map named relative to the scene file is recorded as an absolute path, so a
+        // checkpoint resumed from another directory reads the same map, not one of the same
+        // name there.
+        write_text(dir.file("uniform_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n36e-6 36e-6 36e-6\n" +
+                                                     [] { std::string v; for (int k = 0; k < 8; ++k) v += "0 0 0.3\n"; return v; }());
+        json s = magnetic_scene();
+        s["magnetic"]["field"] = {{"type", "map"}, {"file", "uniform_map.txt"}};
+        mrjam::BuildOptions options;
+        options.base_directory = std::filesystem::relative(dir.file("")).string();  // a scene named relative to here
+        REQUIRE(std::filesystem::path(options.base_directory).is_relative());
+        const mrjam::Scene scene = mrjam::build_scene(s, options);
+        const std::string file = scene.resolved["magnetic"]["field"]["file"].get<std::string>();
+        CHECK(std::filesystem::path(file).is_absolute());
+        CHECK(std::filesystem::equivalent(file, dir.file("uniform_map.txt")));
     }
     {
         // A damaged map: the message names the file and the line.

@@ -29,6 +29,7 @@ struct Stage {
     std::string name;
     long steps = -1;        // -1 until choose_timestep converts `duration`
     double duration = 0;    // s, when the scene gave a duration instead of steps
+    std::string path;       // where the scene gave it: "/run" or "/stages/k"
     std::vector<RaftForm> form_rafts;
     std::vector<std::pair<std::string, Vec3>> raft_velocities;  // for rafts formed earlier
     std::vector<std::string> release;                            // rafts whose grains go free

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include "geometry/disc_packing.hpp"
@@ -284,7 +285,9 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
                          limit + "); move them apart, or for a random placement lower its overlap_tolerance");
 }
 
-Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names) {
+// `formed`: the rafts formed by the stages before this one (a released raft keeps its name and may
+// be formed again); a stage releases, then forms, then sets velocities (lib/run/runner.cpp).
+Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names, std::set<std::string>& formed) {
     Stage st;
     st.name = node.text("name", "stage");
     if (node.has("steps") == node.has("duration"))
@@ -294,25 +297,35 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     } else {
         st.duration = node.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
     }
-    for (auto r : node.objects("form_rafts")) {
-        Stage::RaftForm f;
-        f.name = r.text("name", std::nullopt);
-        f.region = read_region(r.object("region"), scene.system.domain);
-        f.velocity = r.vector("velocity", units::velocity, Vec3{});
-        r.finish();
-        st.form_rafts.push_back(f);
-    }
-    for (auto r : node.objects("raft_velocities")) {
-        st.raft_velocities.emplace_back(r.text("name", std::nullopt), r.vector("velocity", units::velocity, std::nullopt));
-        r.finish();
-    }
     if (node.has("release")) {
         const json& rel = node.raw("release");
         if (!rel.is_array()) node.fail("release", "expected an array of raft names");
         for (const auto& r : rel) {
             if (!r.is_string()) node.fail("release", "expected an array of raft names");
             st.release.push_back(r.get<std::string>());
+            if (!formed.contains(st.release.back()))
+                node.fail("release", "no earlier stage forms a raft named '" + st.release.back() + "'; name one of form_rafts");
         }
+    }
+    std::set<std::string> formed_here;
+    for (auto r : node.objects("form_rafts")) {
+        Stage::RaftForm f;
+        f.name = r.text("name", std::nullopt);
+        if (f.name.empty()) r.fail("name", "give the raft a name (raft_velocities and release refer to it)");
+        // Two entries of one name would make one raft moving at the second's velocity.
+        if (!formed_here.insert(f.name).second)
+            r.fail("name", "raft '" + f.name + "' is formed twice in this stage; give each raft its own name");
+        f.region = read_region(r.object("region"), scene.system.domain);
+        f.velocity = r.vector("velocity", units::velocity, Vec3{});
+        r.finish();
+        st.form_rafts.push_back(f);
+    }
+    formed.insert(formed_here.begin(), formed_here.end());
+    for (auto r : node.objects("raft_velocities")) {
+        st.raft_velocities.emplace_back(r.text("name", std::nullopt), r.vector("velocity", units::velocity, std::nullopt));
+        if (!formed.contains(st.raft_velocities.back().first))
+            r.fail("name", "no raft of this name is formed by this stage or an earlier one; name one of form_rafts");
+        r.finish();
     }
     for (auto w : node.objects("wall_velocities")) {
         const std::string name = w.choice("name", wall_names.empty() ? std::vector<std::string>{"(no walls)"} : wall_names, std::nullopt);
@@ -362,7 +375,9 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     } else {
         std::string file = field.text("file", std::nullopt);
         if (!file.empty() && file[0] != '/' && !options.base_directory.empty()) file = options.base_directory + "/" + file;
-        field.resolved_child("file") = file;  // as resolved, so a checkpoint finds it from anywhere
+        // Absolute as resolved, so a checkpoint resumed from another directory finds the same map.
+        if (!file.empty()) file = std::filesystem::absolute(file).lexically_normal().string();
+        field.resolved_child("file") = file;
         const double scale = field.number("scale", 1.0, Bounds::any());
         if (!std::filesystem::exists(file))
             field.fail("file", "no field map at " + file + " (the format, a text grid of B, is in docs/scene.md under "
@@ -532,12 +547,17 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     if (stage_nodes.empty()) {
         Stage st;
         st.name = "run";
+        st.path = "/run";
         if (run.has("steps") == run.has("duration")) run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
         if (run.has("steps")) st.steps = run.integer("steps", std::nullopt, 0);
         else st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
         scene.stages.push_back(std::move(st));
     } else {
-        for (auto st : stage_nodes) scene.stages.push_back(read_stage(st, scene, wall_names));
+        std::set<std::string> formed;
+        for (auto st : stage_nodes) {
+            scene.stages.push_back(read_stage(st, scene, wall_names, formed));
+            scene.stages.back().path = "/stages/" + std::to_string(scene.stages.size() - 1);
+        }
     }
     run.finish();
     if (auto out = root.optional_object("output")) read_output(*out, scene.output);
@@ -586,11 +606,24 @@ void choose_timestep(Scene& scene) {
                                                   fmt(scene.limits.critical) + " s); use a shorter step or \"auto\"");
         s.dt = scene.requested_timestep;
     } else {
+        // Nothing that moves on its own time scale (no contact law, drag or damping): no limit.
+        if (!std::isfinite(scene.limits.critical))
+            throw SceneError("/run/timestep", "nothing in this scene limits the time step (no contact model, drag or pair "
+                                              "damping): give an explicit step, e.g. \"1 us\"");
         s.dt = scene.timestep_safety * scene.limits.critical;
     }
     scene.resolved["run"]["timestep_used"] = s.dt;
-    for (auto& st : scene.stages) {
-        if (st.steps < 0) st.steps = std::max(1L, static_cast<long>(std::ceil(st.duration / s.dt - 1e-9)));
+    // A duration over the step: far more steps than any run could take is a unit or an exponent
+    // gone wrong, and a count past a long's range would wrap round to a one-step run.
+    constexpr double kMaxSteps = 1e15;
+    for (Stage& st : scene.stages) {
+        if (st.steps >= 0) continue;
+        const double steps = std::ceil(st.duration / s.dt - 1e-9);
+        if (!(steps <= kMaxSteps))
+            throw SceneError(st.path + "/duration",
+                             "needs " + fmt(steps) + " steps of " + fmt(s.dt) + " s, more than " + fmt(kMaxSteps) +
+                                 ": check the duration's units, or the materials' that set the step (" + scene.limits.limiting + ")");
+        st.steps = std::max(1L, static_cast<long>(steps));
     }
 }
 
