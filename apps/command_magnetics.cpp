@@ -13,6 +13,7 @@
 #include "magnetic/external_field.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "magnetics/magnetics_scene.hpp"
+#include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 
@@ -85,6 +86,9 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     cmd->callback([args, &exit_status] {
         const auto start = std::chrono::steady_clock::now();
+        // A solve can take minutes: what it would write is checked before it.
+        prepare_output_file(args->report, "--report");
+        if (!args->field_map.empty()) prepare_output_file(args->field_map, "--field-map");
         MagneticsScene scene = read_magnetics_scene(read_json_file(args->scene), args->fidelity);
         const bool fem = scene.request.field_model != FieldModel::circuit;
         if (!args->field_map.empty() && !fem)
@@ -101,16 +105,27 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
             std::cerr << "[magnetics] " << variant_name(scene.request.model.bracket.variant) << " " << scene.state
                       << ", model " << field_model_name(scene.request.field_model) << " (tier " << scene.tier
                       << "): meshing and solving in " << scene.request.work_dir.string() << "\n";
+        // Ctrl-C reaches gmsh or GetDP too, which then fail or stop early: either way the field is
+        // not to be reported (exit 130, nothing written).
+        install_interrupt_handler();
+        auto interrupted = [&] {
+            if (!interrupt_requested()) return false;
+            std::cerr << "[magnetics] interrupted during the solve; no report written\n";
+            exit_status = kExitInterrupted;
+            return true;
+        };
         EpmField field;
         try {
             field = compute_epm_field(scene.request);
         } catch (const SolverError& e) {
+            if (interrupted()) return;
             std::cerr << "error: " << e.what() << "\n  mesh: fluid_size " << scene.request.mesh.fluid_size * 1e3
                       << " mm, device_size " << scene.request.mesh.device_size * 1e3 << " mm; no report written\n";
             exit_status = kExitError;
             return;
         }
 
+        if (interrupted()) return;
         nlohmann::json report;
         report["mrjam_version"] = MRJAM_VERSION;
         report["mode"] = "magnetics";

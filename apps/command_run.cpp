@@ -35,11 +35,15 @@ void add_run_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--resume", args->resume, "Continue from a checkpoint written by an earlier run");
     cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
-        ->check(CLI::IsMember(fidelity_tier_names()))->capture_default_str();
-    cmd->callback([args, &exit_status] {
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+                                ->check(CLI::IsMember(fidelity_tier_names()))->capture_default_str();
+    cmd->callback([args, fidelity, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("run", "give a SCENE file, or --resume CHECKPOINT (not both)");
+        // The checkpoint's scene holds the settings its tier resolved to; another tier would only relabel the report.
+        if (!args->resume.empty() && fidelity->count() > 0)
+            throw SceneError("--fidelity", "a resumed run keeps the tier it was started with; drop --fidelity");
+        prepare_output_file(args->report, "--report");
         BuildOptions build;
         build.threads = args->threads;
         build.fidelity = args->fidelity;

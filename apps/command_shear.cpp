@@ -39,12 +39,14 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     report["threads"] = threads;
     report["inputs"] = spec.resolved;
     nlohmann::json fid = describe(shear_tier(spec.tier));
-    fid["engine"] = out.engine.value("fidelity", nlohmann::json());
+    // The first cell's engine scene (null from a checkpoint written before it was recorded there).
+    auto engine = [&](const char* key) { return out.engine.is_object() ? out.engine.value(key, nlohmann::json()) : nlohmann::json(); };
+    fid["engine"] = engine("fidelity");
     fid["stiffness_scale_used"] = spec.stiffness_scale;
     fid["density_scale_used"] = spec.density_scale;
     report["fidelity"] = fid;
-    report["timestep"] = out.engine.value("timestep", nlohmann::json());
-    report["engine_scene"] = out.engine.value("inputs", nlohmann::json());
+    report["timestep"] = engine("timestep");
+    report["engine_scene"] = engine("inputs");
     report["status"] = out.status;
     report["partial"] = out.status != "complete";
     if (!out.error.empty()) report["error"] = out.error;
@@ -71,13 +73,19 @@ void add_shear_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")->check(CLI::Range(2, 200))->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
-        ->check(CLI::IsMember({"quick", "standard", "paper"}))->capture_default_str();
-    cmd->callback([args, &exit_status] {
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+                                ->check(CLI::IsMember({"quick", "standard", "paper"}))->capture_default_str();
+    cmd->callback([args, fidelity, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("shear", "give a SCENE file, or --resume CHECKPOINT (not both)");
         if (!args->calibrate.empty() && !args->resume.empty())
             throw CLI::ValidationError("shear", "--calibrate starts fresh studies; it cannot be combined with --resume");
+        if (args->calibrate.empty() && !args->parameters.empty())
+            throw SceneError("--parameter", "sets what --calibrate fits: give --calibrate DATA too, or drop it");
+        // A resumed study finishes at the tier it started with.
+        if (!args->resume.empty() && fidelity->count() > 0)
+            throw SceneError("--fidelity", "a resumed study keeps the tier it was started with; drop --fidelity");
+        prepare_output_file(args->report, "--report");
         ShearOptions options;
         options.threads = args->threads;
         options.progress = !args->quiet;

@@ -130,6 +130,9 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
     const EpmModel& m = request.model;
     if (request.field_model == FieldModel::circuit) return circuit_field(m);
     const int dim = request.field_model == FieldModel::full_3d ? 3 : 2;
+    // A fresh directory: an earlier solve's result files must not be read as this one's if
+    // GetDP writes none (it can exit 0 on some failures).
+    std::filesystem::remove_all(request.work_dir);
     std::filesystem::create_directories(request.work_dir);
     const auto mesh_file = request.work_dir / "epm.msh";
 

@@ -14,6 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "magnetics/child_process.hpp"
+
 namespace mrjam::magnetics {
 
 namespace fs = std::filesystem;
@@ -221,12 +223,6 @@ double max_node_value(const fs::path& file) {
     return m;
 }
 
-std::string shell_quote(const std::string& s) {
-    std::string out = "'";
-    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-}
-
 std::string tail_of(const fs::path& log, std::size_t lines) {
     std::ifstream in(log);
     std::vector<std::string> all;
@@ -254,17 +250,15 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
     }
     // -v 4 makes GetDP log the iteration count, which is how non-convergence is detected: it
     // returns 0 even when CG stops at the iteration limit.
-    const std::string command = shell_quote(getdp) + " " + shell_quote(pro.string()) + " -msh " +
-                                shell_quote(mesh_file.string()) + " -solve Magnetostatics -pos Report -v 4" +
-                                " -ksp_type cg -pc_type icc -ksp_rtol " + number(p.solver_tolerance) +
-                                " -ksp_max_it " + std::to_string(kMaxSolverIterations) + " > " +
-                                shell_quote(log.string()) + " 2>&1";
-    const int status = std::system(command.c_str());
-    // system() ignores Ctrl-C in this process while GetDP runs, so the interrupt only reached
-    // GetDP (through its shell): pass it on to this process, whose handler (or default) decides.
-    const bool interrupted = (WIFSIGNALED(status) && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM)) ||
-                             (WIFEXITED(status) && (WEXITSTATUS(status) == 128 + SIGINT || WEXITSTATUS(status) == 128 + SIGTERM));
-    if (interrupted) {
+    const ChildResult run = run_child({getdp, pro.string(), "-msh", mesh_file.string(), "-solve", "Magnetostatics", "-pos", "Report",
+                                       "-v", "4", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_rtol", number(p.solver_tolerance),
+                                       "-ksp_max_it", std::to_string(kMaxSolverIterations)},
+                                      log);
+    const int status = run.wait_status;
+    if (run.stopped_by_us) throw SolverError("getdp was stopped: mrjam was interrupted");
+    // Ctrl-C in a terminal reaches GetDP as well (the whole process group): the handler in this
+    // process has seen it too, or (none installed) the signal is passed on for its default action.
+    if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM)) {
         std::raise(SIGINT);
         throw SolverError("getdp was interrupted");
     }

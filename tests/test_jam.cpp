@@ -397,14 +397,21 @@ TEST_CASE("jam: undetermined seeds are left out of the probabilities") {
     CHECK(res["field_period_ended_by"] != "max_time");
 }
 
-TEST_CASE("jam and design: a report path that cannot be written is refused before any work") {
+TEST_CASE("every mode: a report path that cannot be written is refused before any work") {
     TempDir dir;
     // Scenes with a typo that is never reached: the report is checked first.
     write_text(dir.file("jam.json"), json{{"protocol", {{"max_tme", "1 ms"}}}}.dump());
     write_text(dir.file("design.json"), json{{"jam", {{"protocol", {{"max_tme", "1 ms"}}}}}}.dump());
+    for (const char* mode : {"run", "shear", "magnetics"}) write_text(dir.file(std::string(mode) + ".json"), json{{"bogus", 1}}.dump());
     std::filesystem::create_directories(dir.file("a_directory"));
     write_text(dir.file("a_file"), "x");
-    for (const std::string& mode : {std::string("jam"), std::string("design")})
+    // The magnetics field map is a file written after the solve too.
+    for (const std::string& map : {dir.file("a_directory"), dir.file("a_file") + "/map.txt"}) {
+        const Result r = mrjam_test::mrjam(dir, "magnetics " + quote(dir.file("magnetics.json")) + " --field-map " + quote(map));
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("--field-map") != std::string::npos);
+    }
+    for (const std::string mode : {"jam", "design", "run", "shear", "magnetics"})
         for (const std::string& report : {dir.file("a_directory"), std::string(""), dir.file("a_file") + "/r.json"}) {
             CAPTURE(mode);
             CAPTURE(report);
@@ -722,17 +729,17 @@ TEST_SUITE("cli") {
 // The design chain end to end on one constriction with a coarse field mesh and a short run:
 // the field map written for the constriction must drive the jam run, and the report must name
 // the jam probability and the open-state flow estimate.
-// Ctrl-C in a terminal reaches the whole process group, GetDP included, while mrjam waits on it
-// (system() ignores the signal in mrjam meanwhile): the design still ends as interrupted, exit
-// 130, with its report written, rather than as a solver failure (exit 1).
+// Ctrl-C in a terminal reaches the whole process group, GetDP included, while mrjam waits on it:
+// the design still ends as interrupted, exit 130, with its report written, rather than as a
+// solver failure (exit 1). (The signal to mrjam alone: tests/test_magnetics_cli.cpp.)
 TEST_CASE("design: Ctrl-C during the field solve is an interruption") {
     if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
     TempDir dir;
     const json design = {{"constrictions", {"30x"}}, {"output_directory", dir.file("design")}};
     write_text(dir.file("design.json"), design.dump());
-    // GetDP is mrjam's grandchild (through sh): signal both, as a terminal would.
+    // GetDP is mrjam's child: signal both, as a terminal would.
     const std::string signal_group =
-        " & pid=$!; g=; for i in $(seq 1 600); do s=$(pgrep -P $pid -x sh); [ -n \"$s\" ] && g=$(pgrep -P $s -x getdp);"
+        " & pid=$!; g=; for i in $(seq 1 600); do g=$(pgrep -P $pid -x getdp);"
         " [ -n \"$g\" ] && break; sleep 0.05; done; kill -INT $pid $g; wait $pid";
     const Result r = mrjam_test::mrjam(dir, "design " + quote(dir.file("design.json")) + " --report " +
                                                 quote(dir.file("report.json")) + " --fidelity quick --quiet",

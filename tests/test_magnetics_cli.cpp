@@ -77,6 +77,28 @@ TEST_CASE("magnetics: the circuit tier reports the required keys and compares wi
     CHECK(report["inputs"]["bracket"]["thickness"].get<double>() == rel(1.4e-3));  // defaults echoed
 }
 
+// Ctrl-C sent to mrjam alone while GetDP solves (kill -INT PID, or a batch system's signal):
+// mrjam stops GetDP, writes nothing and exits 130. It used to wait out the solve, ignoring the
+// signal as system() does, and report the field with exit 0. No GetDP is left behind.
+TEST_CASE("magnetics: Ctrl-C to mrjam during the GetDP solve stops the solve, exit 130, no report") {
+    if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
+    TempDir dir;
+    write_text(dir.file("m.json"), json{{"output", {{"directory", dir.file("work")}}}}.dump());
+    const std::string signal_mrjam =
+        " & pid=$!; g=; for i in $(seq 1 600); do g=$(pgrep -P $pid -x getdp); [ -n \"$g\" ] && break; sleep 0.05; done;"
+        " kill -INT $pid; wait $pid; s=$?; sleep 0.5; echo \"getdp=$g left=$(pgrep -x getdp | grep -cx \"$g\")\" > " +
+        quote(dir.file("left.txt")) + "; exit $s";
+    const Result r = mrjam_test::mrjam(dir, "magnetics " + quote(dir.file("m.json")) + " --report " + quote(dir.file("r.json")),
+                                       signal_mrjam);
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 130);
+    CHECK_FALSE(std::filesystem::exists(dir.file("r.json")));
+    const std::string left = slurp(dir.file("left.txt"));
+    CAPTURE(left);
+    CHECK(left.find("getdp= ") == std::string::npos);  // the signal came while GetDP ran
+    CHECK(left.find("left=0") != std::string::npos);
+}
+
 TEST_CASE("magnetics: a 2D run writes a field map the engine reads over the whole bore, and a picture") {
     if (mrjam::magnetics::find_getdp().empty()) { MESSAGE("getdp not installed: skipped"); return; }
     TempDir dir;

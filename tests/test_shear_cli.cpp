@@ -201,7 +201,8 @@ namespace {
 
 // Runs the study whole, then again interrupted half way and resumed from its checkpoint: the
 // resumed study must not redo finished rates and must end bit for bit where the whole one ends.
-void check_resume_matches(const TempDir& dir, json scene) {
+// `at`: the share of the whole study's wall time at which it is interrupted.
+void check_resume_matches(const TempDir& dir, json scene, double at = 0.5) {
     scene["output"]["directory"] = dir.file("out_full");
     scene["ladder"] = {{"shear_rates", {"3000 1/s", "2000 1/s", "1000 1/s", "500 1/s"}}, {"strain_first", 0.3}, {"strain_per_rate", 0.1}};
     const Result full = shear(dir, "full", scene, "--quiet");
@@ -211,7 +212,7 @@ void check_resume_matches(const TempDir& dir, json scene) {
     scene["output"]["directory"] = dir.file("out_cut");
     write_text(dir.file("cut.json"), scene.dump());
     const double wall = a["wall_time_s"].get<double>();
-    const std::string delay = std::to_string(std::max(0.05, 0.5 * wall));
+    const std::string delay = std::to_string(std::max(0.05, at * wall));
     const Result cut = mrjam(dir, "shear " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
                                       " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
     if (cut.exit_code == 0) {
@@ -227,8 +228,10 @@ void check_resume_matches(const TempDir& dir, json scene) {
                                           quote(dir.file("resumed.json")));
     CAPTURE(resumed.err);
     REQUIRE(resumed.exit_code == 0);
-    // Rates finished before the interrupt are not run again (no progress line reports them).
-    for (std::size_t k = 0; k < finished; ++k) {
+    // Rates finished before the interrupt are not run again (no progress line reports them; a
+    // sweep's cells shear at the ladder's first rate too, so there the lines cannot tell).
+    MESSAGE("interrupted with " << finished << " flow-curve rate(s) finished");
+    for (std::size_t k = 0; !scene.contains("field_sweep") && k < finished; ++k) {
         char line[64];
         std::snprintf(line, sizeof line, "rate %.4g 1/s:", c["results"]["flow_curve"][k]["rate_1_s"].get<double>());
         CHECK(resumed.err.find(line) == std::string::npos);
@@ -240,6 +243,17 @@ void check_resume_matches(const TempDir& dir, json scene) {
         CHECK(b["results"]["flow_curve"][k]["stress_Pa"] == a["results"]["flow_curve"][k]["stress_Pa"]);
         CHECK(b["results"]["flow_curve"][k]["bulk_stress_Pa"] == a["results"]["flow_curve"][k]["bulk_stress_Pa"]);
     }
+    if (a["results"].contains("field_sweep")) CHECK(b["results"]["field_sweep"] == a["results"]["field_sweep"]);
+    // The first cell's engine scene and step are reported also when the resumed part starts
+    // after that cell (they come from the checkpoint, not from rebuilding the cell).
+    CHECK(b["timestep"] == a["timestep"]);
+    json engine_a = a["engine_scene"], engine_b = b["engine_scene"];
+    REQUIRE(engine_b.is_object());
+    engine_a.erase("output");  // out_full and out_cut
+    engine_b.erase("output");
+    CHECK(engine_b == engine_a);
+    // A completed study leaves no checkpoint behind to be resumed by mistake.
+    CHECK_FALSE(std::filesystem::exists(c["checkpoint"].get<std::string>()));
 }
 
 }  // namespace
@@ -249,6 +263,14 @@ TEST_SUITE("cli") {
 TEST_CASE("shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
     TempDir dir;
     check_resume_matches(dir, small_scene(""));
+}
+
+TEST_CASE("shear cli: a field sweep interrupted after its first cell resumes and reports as the uninterrupted one") {
+    TempDir dir;
+    json scene = small_scene("");
+    // A sweep rate that is not on the ladder, so the progress lines tell the cells apart.
+    scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1200 1/s"}, {"strain", 0.05}};
+    check_resume_matches(dir, scene, 0.85);
 }
 
 TEST_CASE("shear cli: an interrupted Lees-Edwards study resumes bit for bit (the checkpoint carries the sliding offset)") {

@@ -123,8 +123,13 @@ public:
             out.error = e.what();
             out.exit_status = 3;
         }
+        // A finished study's checkpoint would only run its end again.
+        if (out.status == "complete") {
+            std::error_code ignored;
+            std::filesystem::remove(checkpoint_path(spec_, options_), ignored);
+        }
         out.results = summarise(spec_, progress_["cells"], progress_["current"]);
-        out.engine = engine_;
+        out.engine = progress_.value("engine", nlohmann::json());
         out.wall_time = seconds_since(t0_);
         return out;
     }
@@ -167,8 +172,10 @@ private:
                    {"grains", scene_->system.particles.size()}, {"timestep_s", scene_->system.dt}};
         }
         resumed_ = false;
+        // The first cell's engine scene and step, for the report; kept in the progress record
+        // (so in the checkpoint), since a study resumed past its first cell never builds it.
         if (c == 0) {
-            engine_ = {{"inputs", scene_->resolved}, {"fidelity", scene_->fidelity},
+            progress_["engine"] = {{"inputs", scene_->resolved}, {"fidelity", scene_->fidelity},
                        {"timestep", {{"used_s", scene_->system.dt}, {"critical_s", scene_->limits.critical},
                                      {"limiting", scene_->limits.limiting}, {"hertz_s", scene_->limits.hertz}}}};
         }
@@ -393,7 +400,6 @@ private:
     ShearOptions options_;
     std::vector<CellPlan> cells_;
     nlohmann::json progress_;
-    nlohmann::json engine_;
     std::unique_ptr<Scene> scene_;
     bool resumed_ = false;
     double max_overlap_ = 0;
