@@ -21,7 +21,7 @@ json small_scene(const std::string& out_dir) {
                           {"friction", 0.1}, {"rolling_friction", 0.1}, {"rolling_damping", 0.1}, {"cohesion_energy_density", "60 kJ/m3"}}},
             {"fluid", {{"viscosity", "10 mPa s"}}},
             {"field", {{"flux_density", "600 mT"}}},
-            {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "6 us"}}},
+            {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "6 us"}, {"field_ramp", "2 us"}}},
             {"ladder", {{"shear_rates", {"3000 1/s", "1500 1/s", "600 1/s"}}, {"strain_first", 0.1}, {"strain_per_rate", 0.05}}},
             {"measure", {{"samples_per_rate", 20}, {"blocks", 5}}},
             {"experiment", {{"yield_stress", "44.9 kPa"}, {"flow_curve", {{1000, 50000}, {300, 46000}}}}},
@@ -148,6 +148,16 @@ TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix"
         json s = base;
         s["material"]["frictoin"] = 0.2;
         expect_shear_refused(dir, "typo", s, "/material/frictoin");
+    }
+    {
+        // A field still ramping when the shear starts (it gave a negative yield stress), and a
+        // single block, whose error bar would read 0.
+        json s = base;
+        s["magnetise"]["field_ramp"] = "4 us";
+        expect_shear_refused(dir, "ramp_past_magnetisation", s, "/magnetise/field_ramp");
+        s = base;
+        s["measure"]["blocks"] = 1;
+        expect_shear_refused(dir, "one_block", s, "/measure/blocks");
     }
     {
         json s = base;

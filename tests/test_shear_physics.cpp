@@ -133,7 +133,7 @@ TEST_CASE("shear cell: in steady shear the virial stress matches the raft stress
                       {"friction", 0.1}, {"rolling_friction", 0.1}, {"rolling_damping", 0.1}, {"cohesion_energy_density", "60 kJ/m3"}}},
         {"fluid", {{"viscosity", "10 mPa s"}}},
         {"field", {{"flux_density", "300 mT"}}},
-        {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "5 us"}}},
+        {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "5 us"}, {"field_ramp", "2 us"}}},
         {"ladder", {{"shear_rates", {"3000 1/s", "1500 1/s"}}, {"strain_first", 0.2}, {"strain_per_rate", 0.1}}},
         {"measure", {{"samples_per_rate", 40}, {"window", 0.5}, {"blocks", 5}}},
         {"output", {{"directory", (std::filesystem::temp_directory_path() / "mrjam_shear_balance").string()}}}};

@@ -247,6 +247,11 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.field_ramp = m.quantity("field_ramp", units::time, 5e-6, Bounds::non_negative());
         s.magnetise_max = m.quantity("max_duration", units::time, tier.magnetise_max, Bounds::positive());
         if (s.magnetise_max < s.magnetise_min) m.fail("max_duration", "must not be shorter than min_duration");
+        // Sheared before the ramp ends, the cell would be measured in a field still rising.
+        if (s.field_ramp > s.magnetise_min)
+            m.fail(m.has("field_ramp") ? "field_ramp" : "min_duration",
+                   "the field ramps up over field_ramp (" + std::to_string(s.field_ramp * 1e6) + " us) and the chains must settle in "
+                   "the full field: make min_duration at least field_ramp");
         m.finish();
     }
     {
@@ -285,7 +290,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         SceneNode m = given ? *given : SceneNode(in, s.resolved["measure"], "/measure");
         s.samples_per_rate = static_cast<int>(m.integer("samples_per_rate", 40, 4, 100000));
         s.window_fraction = m.number("window", 0.5, Bounds::open_closed(0.0, 1.0));
-        s.blocks = static_cast<int>(m.integer("blocks", 5, 1, 1000));
+        // One block gives no spread to put an error bar on.
+        s.blocks = static_cast<int>(m.integer("blocks", 5, 2, 1000));
         if (s.blocks > static_cast<int>(s.samples_per_rate * s.window_fraction))
             m.fail("blocks", "more blocks than samples in the window (" +
                                  std::to_string(static_cast<int>(s.samples_per_rate * s.window_fraction)) +
