@@ -9,6 +9,7 @@
 namespace mrjam::cli {
 
 nlohmann::json read_json_file(const std::string& path) {
+    if (std::filesystem::is_directory(path)) throw SceneError(path, "is a directory: give the scene's JSON file");
     std::ifstream in(path);
     if (!in) throw SceneError(path, "cannot open the scene file (check the path)");
     std::stringstream buffer;

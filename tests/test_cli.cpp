@@ -245,6 +245,18 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         expect_refused(dir, "no_step_limit", s, "/run/timestep");
     }
     {
+        // Where the run writes: an output directory a file is in the way of, and a checkpoint
+        // that could not be saved (found out only at Ctrl-C, it lost the whole run).
+        write_text(dir.file("a_file"), "x");
+        json s = small_scene();
+        s["output"] = {{"directory", dir.file("a_file")}};
+        expect_refused(dir, "output_is_a_file", s, "/output/directory");
+        s["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("a_file") + "/ck.mrjam"}}}};
+        expect_refused(dir, "checkpoint_under_a_file", s, "/output/checkpoint/path");
+        s["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("out")}}}};
+        expect_refused(dir, "checkpoint_is_a_directory", s, "/output/checkpoint/path");
+    }
+    {
         // Rafts: two of one name in one stage would be one raft at the second's velocity; a
         // release or a velocity must name a raft formed by then.
         json s = small_scene();

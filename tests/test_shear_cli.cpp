@@ -327,6 +327,21 @@ TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and 
     const Result unknown = shear(dir, "unk", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter fricton=0.05:0.3");
     CHECK(unknown.exit_code == 2);
     CHECK(unknown.err.find("fricton") != std::string::npos);
+    // A range with units or trailing text (stod read "0.1 um" as 0.1), a pointer that is not
+    // one, and a parameter without --calibrate: refused, naming --parameter.
+    for (const std::string& bad_parameter : {"--calibrate " + quote(dir.file("data.csv")) + " --parameter 'friction=0.1 um:0.5'",
+                                             "--calibrate " + quote(dir.file("data.csv")) + " --parameter friction=0:0.5xyz",
+                                             "--calibrate " + quote(dir.file("data.csv")) + " --parameter '/material/fr~iction=0:1'",
+                                             std::string("--parameter friction=0:0.5")}) {
+        CAPTURE(bad_parameter);
+        const Result refused = shear(dir, "badp", scene, "--quiet " + bad_parameter);
+        CHECK(refused.exit_code == 2);
+        CHECK(refused.err.find("--parameter") != std::string::npos);
+    }
+    // A scene path that is a directory says so.
+    const Result directory = mrjam(dir, "shear " + quote(dir.file("")) + " --quiet");
+    CHECK(directory.exit_code == 2);
+    CHECK(directory.err.find("is a directory") != std::string::npos);
 }
 
 }  // TEST_SUITE

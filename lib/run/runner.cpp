@@ -8,9 +8,12 @@
 #include <iostream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "integrator.hpp"
 #include "observers.hpp"
 #include "run/interrupt.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam {
 namespace {
@@ -121,12 +124,33 @@ void write_json_file(const std::string& path, const nlohmann::json& value) {
     std::filesystem::rename(tmp, path);
 }
 
+void prepare_output_directory(const std::string& directory, const std::string& json_path) {
+    if (directory.empty()) throw SceneError(json_path, "must name a directory (\".\" for the current one)");
+    std::error_code ec;
+    std::filesystem::create_directories(directory, ec);
+    if (ec || !std::filesystem::is_directory(directory))
+        throw SceneError(json_path, "cannot create the directory " + directory + (ec ? " (" + ec.message() + ")" : " (a file is in the way)") +
+                                        ": choose another");
+}
+
+void check_checkpoint_path(const std::string& path, const std::string& json_path) {
+    const std::filesystem::path p(path);
+    if (path.empty() || std::filesystem::is_directory(p) || !p.has_filename())
+        throw SceneError(json_path, "'" + path + "' is not a file name the checkpoint can be written to; name a file, e.g. out/checkpoint.mrjam");
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+    prepare_output_directory(dir.string(), json_path);
+    if (access(dir.c_str(), W_OK) != 0)
+        throw SceneError(json_path, "the directory " + dir.string() + " is not writable: the checkpoint could not be saved on Ctrl-C; "
+                                    "choose another path");
+}
+
 RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
     System& s = scene.system;
     const auto t0 = Clock::now();
     install_interrupt_handler();
-    std::filesystem::create_directories(scene.output.directory);
+    prepare_output_directory(scene.output.directory, "/output/directory");
     const std::string checkpoint = checkpoint_path_of(scene);
+    check_checkpoint_path(checkpoint, scene.output.checkpoint_path.empty() ? "/output/directory" : "/output/checkpoint/path");
 
     RunOutcome outcome;
     nlohmann::json& report = outcome.report;

@@ -45,6 +45,12 @@ using StepObserver = std::function<void(const System&, std::size_t stage, long s
 RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition start = {},
                         const StepObserver& observer = {});
 
+// Creates a run's output directory, or throws SceneError(`json_path`) saying why it cannot be.
+void prepare_output_directory(const std::string& directory, const std::string& json_path);
+// Checks, before a run, that its checkpoint can be written at `path` (its directory created and
+// writable, the path not a directory): found out at Ctrl-C, the run would end with nothing saved.
+void check_checkpoint_path(const std::string& path, const std::string& json_path);
+
 // Writes a JSON file atomically (temporary file, then rename).
 void write_json_file(const std::string& path, const nlohmann::json& value);
 

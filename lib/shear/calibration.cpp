@@ -105,12 +105,21 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
             throw SceneError("--parameter", "'" + item + "': expected NAME=MIN:MAX");
         CalibrationParameter p;
         p.name = item.substr(0, eq);
-        try {
-            p.lo = std::stod(item.substr(eq + 1, colon - eq - 1));
-            p.hi = std::stod(item.substr(colon + 1));
-        } catch (const std::exception&) {
-            throw SceneError("--parameter", "'" + item + "': MIN and MAX must be numbers (SI units)");
-        }
+        // The whole text must be the number: stod would read "0.1 um" as 0.1 and drop the rest.
+        auto number = [&](const std::string& text) {
+            std::size_t used = 0;
+            double v = 0;
+            try {
+                v = std::stod(text, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used == 0 || used != text.size() || !std::isfinite(v))
+                throw SceneError("--parameter", "'" + item + "': MIN and MAX must be plain numbers in SI units, not '" + text + "'");
+            return v;
+        };
+        p.lo = number(item.substr(eq + 1, colon - eq - 1));
+        p.hi = number(item.substr(colon + 1));
         if (!(p.hi > p.lo)) throw SceneError("--parameter", "'" + item + "': MAX must exceed MIN");
         const std::vector<std::string> material = {"rolling_friction", "friction", "rolling_damping", "cohesion_energy_density",
                                                    "relative_permeability", "restitution"};
@@ -121,8 +130,13 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
             p.pointer = "/material/" + p.name;
         } else if (!p.name.empty() && p.name[0] == '/') {
             p.pointer = p.name;
-            if (!spec.input.contains(nlohmann::json::json_pointer(p.pointer)))
-                throw SceneError("--parameter", p.pointer + " is not a key of the shear scene");
+            bool present = false;
+            try {
+                present = spec.input.contains(nlohmann::json::json_pointer(p.pointer));
+            } catch (const nlohmann::json::exception&) {
+                throw SceneError("--parameter", p.pointer + " is not a valid JSON pointer (escape ~ as ~0 and / as ~1)");
+            }
+            if (!present) throw SceneError("--parameter", p.pointer + " is not a key of the shear scene");
         } else {
             throw SceneError("--parameter", "unknown parameter '" + p.name +
                                                 "'; use rolling_friction, friction, rolling_damping, cohesion_energy_density, "

@@ -11,6 +11,7 @@
 #include "io/checkpoint.hpp"
 #include "observers.hpp"
 #include "run/interrupt.hpp"
+#include "run/runner.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/block_average.hpp"
@@ -104,7 +105,8 @@ public:
     ShearOutcome run() {
         t0_ = last_checkpoint_ = last_progress_ = Clock::now();
         install_interrupt_handler();
-        std::filesystem::create_directories(spec_.output_directory);
+        prepare_output_directory(spec_.output_directory, "/output/directory");
+        check_checkpoint_path(checkpoint_path(spec_, options_), "/output/directory");
         ShearOutcome out;
         try {
             for (std::size_t c = progress_["cells"].size(); c < cells_.size(); ++c) {
