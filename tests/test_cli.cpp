@@ -245,6 +245,19 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         expect_refused(dir, "no_step_limit", s, "/run/timestep");
     }
     {
+        // Grains placed where they cannot stay: a region reaching past a closed face, a plane
+        // wall through the region; both ended as a blow-up at the first step.
+        json s = small_scene();
+        s["domain"]["periodic"] = "xy";
+        s["grains"][0]["placement"]["volume_fraction"] = 0.1;
+        s["grains"][0]["placement"]["region"] = {{"lo", {0, 0, "-2 mm"}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};
+        expect_refused(dir, "region_past_closed_face", s, "/grains/0/placement/region");
+        s["grains"][0]["placement"]["region"] = {{"lo", {"-2 mm", 0, 0}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};  // x is periodic: fine
+        s["walls"] = {{{"name", "shelf"}, {"type", "plane"}, {"point", {0, 0, "1.5 mm"}}, {"normal", {0, 0, 1}}}};
+        const Result r = expect_refused(dir, "wall_through_grains", s, "/walls/0");
+        CHECK(r.err.find("shelf") != std::string::npos);
+    }
+    {
         // Where the run writes: an output directory a file is in the way of, and a checkpoint
         // that could not be saved (found out only at Ctrl-C, it lost the whole run).
         write_text(dir.file("a_file"), "x");

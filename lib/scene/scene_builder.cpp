@@ -23,6 +23,20 @@ std::string fmt(double v) {
     return s.str();
 }
 
+// A placement's region (the whole box by default). On an axis that is not periodic it must lie
+// inside the box: grains placed outside it leave at the first step, which read as a blow-up.
+Region placement_region(SceneNode& place, const Domain& domain) {
+    if (!place.has("region")) return Region::box(domain.lo, domain.hi);
+    const Region region = read_region(place.object("region"), domain);
+    const Vec3 lo = region.bbox_lo(), hi = region.bbox_hi();
+    for (int k = 0; k < 3; ++k)
+        if (!domain.periodic[k] && (lo[k] < domain.lo[k] || hi[k] > domain.hi[k]))
+            place.fail("region", std::string("reaches outside the domain along ") + char('x' + k) + " (" + fmt(lo[k]) + " to " +
+                                     fmt(hi[k]) + " m against " + fmt(domain.lo[k]) + " to " + fmt(domain.hi[k]) +
+                                     " m), which is not periodic: keep it inside /domain");
+    return region;
+}
+
 Domain read_domain(SceneNode node) {
     Domain d;
     d.lo = node.vector("lo", units::length, std::nullopt);
@@ -153,7 +167,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
         const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
         if (phi > kRandomClosePacking)
             place.fail("volume_fraction", "cannot exceed random close packing of spheres, " + fmt(kRandomClosePacking));
-        Region region = place.has("region") ? read_region(place.object("region"), s.domain) : Region::box(s.domain.lo, s.domain.hi);
+        const Region region = placement_region(place, s.domain);
         PackingOptions opt;
         opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
         if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
@@ -196,7 +210,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
         const double spacing = place.quantity("spacing", units::length, diameter, Bounds::positive());
         if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + fmt(diameter));
         const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
-        Region region = place.has("region") ? read_region(place.object("region"), s.domain) : Region::box(s.domain.lo, s.domain.hi);
+        const Region region = placement_region(place, s.domain);
         place.finish();
         if (insert) spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
     } else {
@@ -247,6 +261,23 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
 // at step 0 with a blow-up blaming the time step; refuse them here instead, naming the batches.
 void check_initial_overlaps(const System& s, const std::vector<std::size_t>& batch_end) {
     const std::size_t n = s.particles.size();
+    auto batch_of = [&](std::size_t i) {
+        return static_cast<std::size_t>(std::upper_bound(batch_end.begin(), batch_end.end(), i) - batch_end.begin());
+    };
+    // A wall through the grains placed (a plane inside the insertion region, a listed grain
+    // against it) would throw them out at the first step, which read as a blow-up.
+    for (std::size_t w = 0; w < s.walls.size(); ++w)
+        for (std::size_t i = 0; i < n; ++i) {
+            double overlap = 0;
+            Vec3 normal;
+            if (!s.walls[w].touch(s.particles.position[i], s.particles.radius[i], overlap, normal)) continue;
+            if (!(overlap / s.particles.radius[i] > s.max_overlap_fraction)) continue;
+            const std::size_t b = batch_of(i);
+            throw SceneError("/walls/" + std::to_string(w),
+                             "wall '" + s.walls[w].name + "' cuts through grain " + std::to_string(i - (b == 0 ? 0 : batch_end[b - 1])) +
+                                 " of /grains/" + std::to_string(b) + " (overlap " + fmt(overlap / s.particles.radius[i]) +
+                                 " of its radius): keep the grains' region or positions clear of the wall");
+        }
     if (n < 2) return;
     Particles p = s.particles;  // the list build wraps positions; keep the scene's as they are
     NeighborList list(NeighborList::Settings{0.0, 1.0, false});  // cutoff R_i + R_j: the overlaps
@@ -266,9 +297,6 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
         }
     }
     if (!(worst > s.max_overlap_fraction)) return;
-    auto batch_of = [&](std::size_t i) {
-        return static_cast<std::size_t>(std::upper_bound(batch_end.begin(), batch_end.end(), i) - batch_end.begin());
-    };
     std::size_t bi = batch_of(wi), bj = batch_of(wj);
     if (bi > bj) { std::swap(bi, bj); std::swap(wi, wj); }
     const std::string ratio = fmt(worst), limit = fmt(s.max_overlap_fraction);
