@@ -258,6 +258,12 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         CHECK(r.err.find("shelf") != std::string::npos);
     }
     {
+        // A lattice period longer than the periodic box (an internal error, exit 1, before).
+        json s = small_scene();
+        s["grains"][0]["placement"] = {{"method", "lattice"}, {"spacing", "1 m"}};
+        expect_refused(dir, "lattice_longer_than_box", s, "/grains/0/placement/spacing");
+    }
+    {
         // Where the run writes: an output directory a file is in the way of, and a checkpoint
         // that could not be saved (found out only at Ctrl-C, it lost the whole run).
         write_text(dir.file("a_file"), "x");

@@ -212,7 +212,11 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
         const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
         const Region region = placement_region(place, s.domain);
         place.finish();
-        if (insert) spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
+        if (insert) try {
+                spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
+            } catch (const std::invalid_argument& e) {  // a period shorter than one lattice period
+                place.fail("spacing", e.what());
+            }
     } else {
         const json& list = place.raw("positions");
         if (!list.is_array() || list.empty()) place.fail("positions", "expected a non-empty array of [x, y, z]");
