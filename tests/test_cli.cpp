@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -485,6 +486,24 @@ TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends
         CHECK(rb["stages"] == ra["stages"]);
         CHECK(b["inputs"] == a["inputs"]);
         CHECK(b["seed"] == a["seed"]);
+        if (every != 200) continue;
+        // Damaged copies are bad input to --resume, named, whatever the damage: a length field
+        // that promises more than the file holds (it asked for a huge allocation), and a cut file.
+        std::string bytes = slurp(ck);
+        const std::size_t scene_text = bytes.find('{');
+        REQUIRE(scene_text != std::string::npos);
+        REQUIRE(scene_text >= 8);
+        const std::uint64_t huge = 1ull << 50;
+        std::memcpy(bytes.data() + scene_text - 8, &huge, sizeof huge);  // the scene's length
+        write_text(dir.file("long_length.mrjam"), bytes);
+        write_text(dir.file("cut.mrjam"), slurp(ck).substr(0, slurp(ck).size() / 2));
+        for (const char* damaged : {"long_length.mrjam", "cut.mrjam"}) {
+            CAPTURE(damaged);
+            const Result r = mrjam(dir, "run --resume " + quote(dir.file(damaged)) + " --report " + quote(dir.file("d.json")) + " --quiet");
+            CHECK(r.exit_code == 2);
+            CHECK(r.err.find("--resume") != std::string::npos);
+            CHECK(r.err.find(damaged) != std::string::npos);
+        }
     }
 }
 

@@ -30,10 +30,23 @@ void put_vector(std::ostream& out, const std::vector<T>& v) {
     out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 
+// Bytes left to read in a seekable stream (the largest value for one that is not).
+inline std::uint64_t bytes_left(std::istream& in) {
+    const auto here = in.tellg();
+    if (here < 0) return ~0ull;
+    in.seekg(0, std::ios::end);
+    const auto end = in.tellg();
+    in.seekg(here);
+    return end >= here ? static_cast<std::uint64_t>(end - here) : 0;
+}
+
 template <class T>
 void get_vector(std::istream& in, std::vector<T>& v) {
     const auto n = get<std::uint64_t>(in);
-    if (n > (1ull << 40) / sizeof(T)) throw std::runtime_error("checkpoint is corrupt (absurd array length)");
+    // A damaged length must not become a huge allocation: the array has to fit in what is left.
+    if (n > bytes_left(in) / sizeof(T))
+        throw std::runtime_error("checkpoint is corrupt or truncated (an array of " + std::to_string(n) +
+                                 " entries is longer than the rest of the file)");
     v.resize(n);
     in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
     if (!in) throw std::runtime_error("checkpoint is truncated or unreadable");
