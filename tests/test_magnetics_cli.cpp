@@ -58,6 +58,19 @@ TEST_CASE("magnetics: bad scenes are refused with the field to fix and no report
     s["model"] = "3d";
     s["mesh"] = {{"air_box", "5 mm"}};
     expect_magnetics_refused(dir, "small_air_box", s, "/mesh/air_box");
+    // A 3D mesh past what the machine can solve is refused before meshing (it ran GetDP to
+    // 2.5 GB and on); so are a variant's shape keys given to another variant (they did nothing).
+    s = base;
+    s["model"] = "3d";
+    s["mesh"] = {{"fluid_size", "0.01 mm"}};
+    expect_magnetics_refused(dir, "mesh_too_fine", s, "/mesh/fluid_size");
+    s["mesh"] = {{"far_size", "1 um"}};
+    expect_magnetics_refused(dir, "far_too_fine", s, "/mesh/far_size");
+    s = base;
+    s["bracket"] = {{"cutout_radius", "0.5 mm"}};
+    expect_magnetics_refused(dir, "cutout_on_rectangular", s, "/bracket/cutout_radius");
+    s["bracket"] = {{"insert_width", "0.5 mm"}};
+    expect_magnetics_refused(dir, "insert_width_on_rectangular", s, "/bracket/insert_width");
 }
 
 TEST_CASE("magnetics: the circuit tier reports the required keys and compares with the source") {
