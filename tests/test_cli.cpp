@@ -437,6 +437,18 @@ TEST_CASE("cli: a missing scene file and invalid JSON are refused with exit code
     CHECK(broken.err.find("broken.json") != std::string::npos);
     CHECK(broken.err.find("not valid JSON") != std::string::npos);
 
+    // A key given twice: the parser kept the last one without a word. Named by its path, also
+    // inside arrays; the same key in two different objects is fine.
+    write_text(dir.file("twice.json"), R"({"seed": 1, "grains": [{"size": 1}, {"material": "a", "material": "b"}]})");
+    const Result twice = mrjam(dir, "run " + quote(dir.file("twice.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(twice.exit_code == 2);
+    CHECK(twice.err.find("/grains/1/material") != std::string::npos);
+    CHECK(twice.err.find("twice") != std::string::npos);
+    write_text(dir.file("same_key_apart.json"), R"({"a": {"x": 1}, "b": [{"x": 1}, {"x": 2}]})");
+    const Result apart = mrjam(dir, "run " + quote(dir.file("same_key_apart.json")) + " --report " + quote(dir.file("r.json")));
+    CHECK(apart.exit_code == 2);
+    CHECK(apart.err.find("twice") == std::string::npos);  // refused for its missing keys, not for x
+
     write_text(dir.file("array.json"), "[1, 2, 3]");
     const Result array = mrjam(dir, "run " + quote(dir.file("array.json")) + " --report " + quote(dir.file("r.json")));
     CHECK(array.exit_code == 2);
