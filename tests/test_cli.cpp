@@ -259,6 +259,20 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
         CHECK(r.err.find("shelf") != std::string::npos);
     }
     {
+        // Names that something else refers to must be given, and once.
+        json s = small_scene();
+        s["domain"]["periodic"] = "xx";
+        expect_refused(dir, "axis_twice", s, "/domain/periodic");
+        s = small_scene();
+        s["materials"][0]["name"] = "";
+        expect_refused(dir, "material_unnamed", s, "/materials/0/name");
+        s = small_scene();
+        s["domain"]["periodic"] = "xy";
+        s["walls"] = {{{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
+                      {{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, "6 mm"}}, {"normal", {0, 0, -1}}}};
+        expect_refused(dir, "wall_name_twice", s, "/walls/1/name");
+    }
+    {
         // A lattice period longer than the periodic box (an internal error, exit 1, before).
         json s = small_scene();
         s["grains"][0]["placement"] = {{"method", "lattice"}, {"spacing", "1 m"}};

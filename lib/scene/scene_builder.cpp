@@ -59,6 +59,7 @@ Domain read_domain(SceneNode node) {
 Material read_material(SceneNode node) {
     Material m;
     m.name = node.text("name", std::nullopt);
+    if (m.name.empty()) node.fail("name", "give the material a name (grains and walls refer to it)");
     m.density = node.quantity("density", units::density, std::nullopt, Bounds::positive());
     m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::positive());
     m.poisson_ratio = node.number("poisson_ratio", 0.3, Bounds::closed(-0.99, 0.5));
@@ -540,6 +541,10 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     std::vector<std::string> wall_names;
     for (auto w : root.objects("walls")) {
         s.walls.push_back(read_wall(w, names));
+        // A stage's wall_velocities names the wall: two of one name would both move.
+        if (std::find(wall_names.begin(), wall_names.end(), s.walls.back().name) != wall_names.end())
+            w.fail("name", "wall names must be unique ('" + s.walls.back().name + "' is taken)");
+        if (s.walls.back().name.empty()) w.fail("name", "give the wall a name (stages refer to it)");
         wall_names.push_back(s.walls.back().name);
     }
 

@@ -233,6 +233,7 @@ std::vector<bool> SceneNode::axis_flags(const std::string& key, std::optional<st
         if (v.is_string()) {
             for (char c : v.get<std::string>()) {
                 if (c < 'x' || c > 'z') fail(key, "expected axis letters from \"xyz\", e.g. \"xy\"");
+                if (flags[c - 'x']) fail(key, std::string("names axis ") + c + " twice; give each axis once, e.g. \"xy\"");
                 flags[c - 'x'] = true;
             }
         } else if (v.is_array() && v.size() == 3 && v[0].is_boolean() && v[1].is_boolean() && v[2].is_boolean()) {
