@@ -80,15 +80,15 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
     CLI::App* cmd = app.add_subcommand("magnetics", "Field of an EPM valve (gmsh + GetDP, or the circuit estimate)");
     cmd->add_option("scene", args->scene, "Magnetics scene JSON (see docs/magnetics.md)")->required();
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    cmd->add_option("--field-map", args->field_map, "Also write B on a grid over the fluid (mrjam-fieldmap format)");
+    CLI::Option* field_map = cmd->add_option("--field-map", args->field_map, "Also write B on a grid over the fluid (mrjam-fieldmap format)");
     cmd->add_option("--fidelity", args->fidelity, "quick (2D), standard (3D) or paper (3D, fine mesh); the scene wins")
         ->check(CLI::IsMember(magnetics_tier_names()))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    cmd->callback([args, &exit_status] {
+    cmd->callback([args, field_map, &exit_status] {
         const auto start = std::chrono::steady_clock::now();
         // A solve can take minutes: what it would write is checked before it.
         prepare_output_file(args->report, "--report");
-        if (!args->field_map.empty()) prepare_output_file(args->field_map, "--field-map");
+        if (field_map->count() > 0) prepare_output_file(args->field_map, "--field-map");  // "" is refused, not "none"
         MagneticsScene scene = read_magnetics_scene(read_json_file(args->scene), args->fidelity);
         const bool fem = scene.request.field_model != FieldModel::circuit;
         if (!args->field_map.empty() && !fem)

@@ -406,7 +406,7 @@ TEST_CASE("every mode: a report path that cannot be written is refused before an
     std::filesystem::create_directories(dir.file("a_directory"));
     write_text(dir.file("a_file"), "x");
     // The magnetics field map is a file written after the solve too.
-    for (const std::string& map : {dir.file("a_directory"), dir.file("a_file") + "/map.txt"}) {
+    for (const std::string& map : {dir.file("a_directory"), dir.file("a_file") + "/map.txt", std::string("")}) {
         const Result r = mrjam_test::mrjam(dir, "magnetics " + quote(dir.file("magnetics.json")) + " --field-map " + quote(map));
         CHECK(r.exit_code == 2);
         CHECK(r.err.find("--field-map") != std::string::npos);

@@ -204,6 +204,20 @@ TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path
         CHECK(std::filesystem::equivalent(file, dir.file("uniform_map.txt")));
     }
     {
+        // A header whose node counts do not match the values (more values than nodes), and a
+        // spacing that is not positive: named with the file and the line.
+        write_text(dir.file("long_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n36e-6 36e-6 36e-6\n" +
+                                                  [] { std::string v; for (int k = 0; k < 9; ++k) v += "0 0 0.3\n"; return v; }());
+        json s = magnetic_scene();
+        s["magnetic"]["field"] = {{"type", "map"}, {"file", "long_map.txt"}};
+        const Result r = expect_refused(dir, "map_more_values", s, "/magnetic/field/file");
+        CHECK(r.err.find("long_map.txt:13") != std::string::npos);
+        write_text(dir.file("flat_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n36e-6 0 36e-6\n");
+        s["magnetic"]["field"]["file"] = "flat_map.txt";
+        const Result flat = expect_refused(dir, "map_zero_spacing", s, "/magnetic/field/file");
+        CHECK(flat.err.find("flat_map.txt:4") != std::string::npos);
+    }
+    {
         // A damaged map: the message names the file and the line.
         write_text(dir.file("broken_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n1e-5 1e-5 1e-5\n0 0 1\n0 0 one\n");
         json s = magnetic_scene();

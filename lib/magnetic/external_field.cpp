@@ -55,6 +55,7 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
     { auto s = next("the node counts"); if (!(s >> count[0] >> count[1] >> count[2])) throw bad("three node counts"); }
     { auto s = next("the origin"); if (!(s >> origin.x >> origin.y >> origin.z)) throw bad("the origin x0 y0 z0"); }
     { auto s = next("the spacing"); if (!(s >> spacing.x >> spacing.y >> spacing.z)) throw bad("the spacing dx dy dz"); }
+    if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0)) throw bad("a positive spacing dx dy dz (metres)");
     if (count[0] < 2 || count[1] < 2 || count[2] < 2 || count[0] > 4096 || count[1] > 4096 || count[2] > 4096)
         throw std::runtime_error(path + ": node counts must be between 2 and 4096");
     // Read node by node, not allocated from the header: a damaged header must not ask for terabytes.
@@ -65,6 +66,14 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
         Vec3 v;
         if (!(s >> v.x >> v.y >> v.z) || !finite(v)) throw bad("Bx By Bz (finite numbers, tesla)");
         values.push_back(v);
+    }
+    // More values than the header's nodes usually means a wrong header (the grid read skewed).
+    while (std::getline(in, line)) {
+        ++line_no;
+        if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#')
+            throw std::runtime_error(path + ":" + std::to_string(line_no) + ": more values than the header's " +
+                                     std::to_string(count[0]) + " x " + std::to_string(count[1]) + " x " + std::to_string(count[2]) +
+                                     " nodes; check the node counts");
     }
     return FieldMap(count, origin, spacing, std::move(values), scale);
 }
