@@ -70,18 +70,20 @@ void add_shear_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--parameter", args->parameters,
                     "With --calibrate: NAME=MIN:MAX, one or two of rolling_friction, friction, cohesion_energy_density, field_scale, "
                     "or a JSON pointer into the shear scene such as /material/restitution");
-    cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")->check(CLI::Range(2, 200))->capture_default_str();
+    CLI::Option* max_runs = cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")->check(CLI::Range(2, 200))->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
                                 ->check(CLI::IsMember({"quick", "standard", "paper"}))->capture_default_str();
-    cmd->callback([args, fidelity, &exit_status] {
+    cmd->callback([args, fidelity, max_runs, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("shear", "give a SCENE file, or --resume CHECKPOINT (not both)");
         if (!args->calibrate.empty() && !args->resume.empty())
             throw CLI::ValidationError("shear", "--calibrate starts fresh studies; it cannot be combined with --resume");
         if (args->calibrate.empty() && !args->parameters.empty())
             throw SceneError("--parameter", "sets what --calibrate fits: give --calibrate DATA too, or drop it");
+        if (args->calibrate.empty() && max_runs->count() > 0)
+            throw SceneError("--max-runs", "limits the studies --calibrate runs: give --calibrate DATA too, or drop it");
         // A resumed study finishes at the tier it started with.
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed study keeps the tier it was started with; drop --fidelity");
