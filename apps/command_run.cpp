@@ -51,17 +51,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
         ProtocolPosition start;
         nlohmann::json resumed_stage_log;
         if (!args->resume.empty()) {
-            // A damaged file, or not a checkpoint: bad input to --resume (exit 2), named.
-            auto reading = [&](auto&& read) {
-                try {
-                    return read();
-                } catch (const SceneError&) {
-                    throw;
-                } catch (const std::runtime_error& e) {
-                    throw SceneError("--resume", args->resume + ": " + e.what() + "; resume from an intact checkpoint");
-                }
-            };
-            const CheckpointHeader header = reading([&] { return read_checkpoint_header(args->resume); });
+            const CheckpointHeader header = read_checkpoint_header(args->resume);
             // A mode's checkpoint carries protocol state `mrjam run` knows nothing of.
             if (header.history.is_object()) {
                 const std::string mode = header.history.value("mode", header.history.contains("shear_input") ? "shear" : "another mode");
@@ -70,9 +60,9 @@ void add_run_command(CLI::App& app, int& exit_status) {
             }
             build.insert_grains = false;
             scene = build_scene(header.resolved_scene, build);
-            reading([&] { restore_state(args->resume, scene.system); });
+            restore_state(args->resume, scene.system);
             choose_timestep(scene);
-            reading([&] { restore_state(args->resume, scene.system); });  // the list and step from the checkpoint win
+            restore_state(args->resume, scene.system);  // the list and step from the checkpoint win
             start = header.position;
             resumed_stage_log = header.history;
             std::cerr << "[run] resuming from " << args->resume << " at step " << scene.system.step << "\n";

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "io/binary_io.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam {
 namespace {
@@ -40,6 +41,19 @@ std::ifstream open_and_check(const std::string& path, int& version) {
         throw std::runtime_error(path + " is not an mrjam checkpoint (or was written by an incompatible version)");
     version = magic == kMagic ? 6 : magic == kMagicV5 ? 5 : 4;
     return in;
+}
+
+// A checkpoint that cannot be read (missing, damaged, not a checkpoint) is bad input to
+// --resume, named with its file (exit 2), for every mode that resumes one.
+template <class Read>
+auto as_resume_input(const std::string& path, Read&& read) {
+    try {
+        return read();
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::runtime_error& e) {
+        throw SceneError("--resume", path + ": " + e.what() + "; resume from an intact checkpoint");
+    }
 }
 
 }  // namespace
@@ -99,79 +113,83 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {
-    int version = 0;
-    std::ifstream in = open_and_check(path, version);
-    CheckpointHeader h;
-    h.version = version;
-    try {
-        h.resolved_scene = nlohmann::json::parse(binary::get_string(in));
-        h.history = nlohmann::json::parse(binary::get_string(in));
-    } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error("checkpoint " + path + " is corrupt: " + e.what());
-    }
-    h.position = binary::get<ProtocolPosition>(in);
-    return h;
+    return as_resume_input(path, [&] {
+        int version = 0;
+        std::ifstream in = open_and_check(path, version);
+        CheckpointHeader h;
+        h.version = version;
+        try {
+            h.resolved_scene = nlohmann::json::parse(binary::get_string(in));
+            h.history = nlohmann::json::parse(binary::get_string(in));
+        } catch (const nlohmann::json::exception& e) {
+            throw std::runtime_error("checkpoint " + path + " is corrupt: " + e.what());
+        }
+        h.position = binary::get<ProtocolPosition>(in);
+        return h;
+    });
 }
 
 void restore_state(const std::string& path, System& s) {
-    int version = 0;
-    std::ifstream in = open_and_check(path, version);
-    binary::get_string(in);
-    binary::get_string(in);
-    binary::get<ProtocolPosition>(in);
-    s.time = binary::get<double>(in);
-    s.step = binary::get<long>(in);
-    s.dt = binary::get<double>(in);
-    s.domain.lees_edwards = binary::get<std::uint8_t>(in) != 0;
-    s.domain.shear_offset = binary::get<double>(in);
-    s.domain.shear_velocity = binary::get<double>(in);
-    get_particles(in, s.particles);
-    s.contacts.load(in);
-    if (s.magnetic.enabled) {
-        s.magnetic.pairs.load(in);
-        s.magnetic.field_passes = binary::get<long>(in);
-        s.magnetic.force_passes = binary::get<long>(in);
-        s.magnetic.skipped_passes = binary::get<long>(in);
-        s.magnetic.held_force.clear();
-        s.magnetic.held_torque.clear();
-        if (version >= 5) {
-            s.magnetic.held_age = binary::get<int>(in);
-            s.magnetic.held_passes = binary::get<long>(in);
-            binary::get_vector(in, s.magnetic.held_force);
-            binary::get_vector(in, s.magnetic.held_torque);
-        } else {
-            // Written before forces could be held: its run evaluated them every step, and a scene
-            // resolved then (no update_interval) must not pick up a later tier default mid-run.
-            s.magnetic.settings.update_interval = 1;
+    as_resume_input(path, [&] {
+        int version = 0;
+        std::ifstream in = open_and_check(path, version);
+        binary::get_string(in);
+        binary::get_string(in);
+        binary::get<ProtocolPosition>(in);
+        s.time = binary::get<double>(in);
+        s.step = binary::get<long>(in);
+        s.dt = binary::get<double>(in);
+        s.domain.lees_edwards = binary::get<std::uint8_t>(in) != 0;
+        s.domain.shear_offset = binary::get<double>(in);
+        s.domain.shear_velocity = binary::get<double>(in);
+        get_particles(in, s.particles);
+        s.contacts.load(in);
+        if (s.magnetic.enabled) {
+            s.magnetic.pairs.load(in);
+            s.magnetic.field_passes = binary::get<long>(in);
+            s.magnetic.force_passes = binary::get<long>(in);
+            s.magnetic.skipped_passes = binary::get<long>(in);
+            s.magnetic.held_force.clear();
+            s.magnetic.held_torque.clear();
+            if (version >= 5) {
+                s.magnetic.held_age = binary::get<int>(in);
+                s.magnetic.held_passes = binary::get<long>(in);
+                binary::get_vector(in, s.magnetic.held_force);
+                binary::get_vector(in, s.magnetic.held_torque);
+            } else {
+                // Written before forces could be held: its run evaluated them every step, and a scene
+                // resolved then (no update_interval) must not pick up a later tier default mid-run.
+                s.magnetic.settings.update_interval = 1;
+            }
         }
-    }
-    s.held_flow = HeldFlow{};
-    if (s.physics.drag && version >= 6) {
-        s.held_flow.age = binary::get<int>(in);
-        s.held_flow.held_steps = binary::get<long>(in);
-        binary::get_vector(in, s.held_flow.at);
-    } else if (s.physics.drag) {
-        // Written before lookups could be held: its run looked the flow up every step, and a
-        // scene resolved then must not pick up a later tier default mid-run.
-        s.physics.flow_lookup_interval = 1;
-    }
-    const auto nwalls = binary::get<std::uint64_t>(in);
-    if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
-    for (Wall& w : s.walls) {
-        w.point = binary::get<Vec3>(in);
-        w.velocity = binary::get<Vec3>(in);
-        binary::get_vector(in, w.history);
-        w.near.valid = false;  // found again at the next neighbour rebuild
-    }
-    const auto nrafts = binary::get<std::uint64_t>(in);
-    s.rafts.clear();
-    for (std::uint64_t r = 0; r < nrafts; ++r) {
-        Raft raft;
-        raft.name = binary::get_string(in);
-        raft.velocity = binary::get<Vec3>(in);
-        raft.members = binary::get<std::size_t>(in);
-        s.rafts.push_back(raft);
-    }
+        s.held_flow = HeldFlow{};
+        if (s.physics.drag && version >= 6) {
+            s.held_flow.age = binary::get<int>(in);
+            s.held_flow.held_steps = binary::get<long>(in);
+            binary::get_vector(in, s.held_flow.at);
+        } else if (s.physics.drag) {
+            // Written before lookups could be held: its run looked the flow up every step, and a
+            // scene resolved then must not pick up a later tier default mid-run.
+            s.physics.flow_lookup_interval = 1;
+        }
+        const auto nwalls = binary::get<std::uint64_t>(in);
+        if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
+        for (Wall& w : s.walls) {
+            w.point = binary::get<Vec3>(in);
+            w.velocity = binary::get<Vec3>(in);
+            binary::get_vector(in, w.history);
+            w.near.valid = false;  // found again at the next neighbour rebuild
+        }
+        const auto nrafts = binary::get<std::uint64_t>(in);
+        s.rafts.clear();
+        for (std::uint64_t r = 0; r < nrafts; ++r) {
+            Raft raft;
+            raft.name = binary::get_string(in);
+            raft.velocity = binary::get<Vec3>(in);
+            raft.members = binary::get<std::size_t>(in);
+            s.rafts.push_back(raft);
+        }
+    });
 }
 
 }  // namespace mrjam

@@ -27,7 +27,8 @@ struct CheckpointHeader {
     int version = 6;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be held
 };
 
-// Reads the scene part; restore_state then fills a system built from that scene.
+// Reads the scene part; restore_state then fills a system built from that scene. Both throw
+// SceneError("--resume", ...) naming the file when it cannot be read.
 CheckpointHeader read_checkpoint_header(const std::string& path);
 void restore_state(const std::string& path, System& system);
 

@@ -1,18 +1,12 @@
 #include "jam/jam_checkpoint.hpp"
 
-#include <stdexcept>
-
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
 
 JamCheckpoint read_jam_checkpoint(const std::string& path) {
     JamCheckpoint out;
-    try {
-        out.header = read_checkpoint_header(path);
-    } catch (const std::runtime_error& e) {
-        throw SceneError("--resume", e.what());
-    }
+    out.header = read_checkpoint_header(path);
     const nlohmann::json& h = out.header.history;
     if (!h.is_object() || h.value("mode", "") != "jam" || !h.contains("state") || !h["state"].contains("campaign"))
         throw SceneError("--resume",

@@ -334,17 +334,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         coupled = make_coupled_flow(js, scene.system.physics.viscosity);
         scene.system.flow = coupled->field();
     }
-    // A damaged checkpoint is bad input to --resume (exit 2), not an internal error.
-    auto restore = [&] {
-        try {
-            restore_state(options.resume_checkpoint, scene.system);
-        } catch (const std::runtime_error& e) {
-            throw SceneError("--resume", options.resume_checkpoint + ": " + e.what() + "; resume from an intact checkpoint");
-        }
-    };
-    if (resuming) restore();
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);
     choose_timestep(scene);
-    if (resuming) restore();  // the list and step from the checkpoint win
+    if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
     const JamProtocol& p = js.protocol;
     check_observation_interval(p, s.dt);
