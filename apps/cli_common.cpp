@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam::cli {
@@ -68,13 +69,7 @@ void prepare_output_file(const std::string& path, const std::string& option) {
     const fs::path p(path);
     if (!p.has_filename() || fs::is_directory(p))
         throw SceneError(option, path + " is a directory: give a file name such as " + (p / "report.json").string());
-    const fs::path dir = p.parent_path();
-    if (dir.empty()) return;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-        throw SceneError(option, "cannot create the directory " + dir.string() + " for " + path +
-                                     (ec ? " (" + ec.message() + ")" : std::string()) + ": choose another path");
+    if (p.has_parent_path()) prepare_output_directory(p.parent_path().string(), option);
 }
 
 }  // namespace mrjam::cli

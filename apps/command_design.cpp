@@ -80,10 +80,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             return;
         }
         check_design_scenes(spec, magnetics_tier, args->fidelity);
-        std::error_code made;
-        fs::create_directories(out_dir, made);
-        if (made || !fs::is_directory(out_dir))
-            throw SceneError("/output_directory", "cannot create " + out_dir.string() + ": choose another directory");
+        prepare_output_directory(out_dir.string(), "/output_directory");
 
         // Ctrl-C from here on writes the design report of what is done (exit 130); without the
         // handler, an interrupt during a field solve would end the process with nothing written.

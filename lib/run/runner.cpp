@@ -144,6 +144,11 @@ void check_checkpoint_path(const std::string& path, const std::string& json_path
                                     "choose another path");
 }
 
+void discard_checkpoint(const std::string& path) {
+    std::error_code ignored;  // none written (a short run): nothing to delete
+    std::filesystem::remove(path, ignored);
+}
+
 RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
     System& s = scene.system;
     const auto t0 = Clock::now();
@@ -277,13 +282,9 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
         std::fprintf(stderr, "[%s] interrupted at step %ld; checkpoint written to %s\n", options.mode.c_str(), s.step,
                      checkpoint.c_str());
     }
-    // The checkpoints written against an interruption (every few minutes) are of no use once the
-    // run is complete, and resuming one would run its end again; those asked for by step count
-    // are the user's and stay.
-    if (status == "complete" && scene.output.checkpoint_every_steps == 0) {
-        std::error_code ignored;
-        std::filesystem::remove(checkpoint, ignored);
-    }
+    // The checkpoints written against an interruption (every few minutes) go; those asked for
+    // by step count are the user's and stay.
+    if (status == "complete" && scene.output.checkpoint_every_steps == 0) discard_checkpoint(checkpoint);
     const double wall = seconds_since(t0);
     const long steps_run = steps_advanced;
     report["status"] = status;

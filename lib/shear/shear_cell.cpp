@@ -125,11 +125,7 @@ public:
             out.error = e.what();
             out.exit_status = 3;
         }
-        // A finished study's checkpoint would only run its end again.
-        if (out.status == "complete") {
-            std::error_code ignored;
-            std::filesystem::remove(checkpoint_path(spec_, options_), ignored);
-        }
+        if (out.status == "complete") discard_checkpoint(checkpoint_path(spec_, options_));
         out.results = summarise(spec_, progress_["cells"], progress_["current"]);
         out.engine = progress_.value("engine", nlohmann::json());
         out.wall_time = seconds_since(t0_);
