@@ -376,6 +376,16 @@ TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the
     }
     {
         json s = small_scene();
+        s["materials"][0]["youngs_modulus"] = 1e-300;  // blew up (exit 3) before the range was checked
+        expect_refused(dir, "absurd_modulus", s, "/materials/0/youngs_modulus");
+    }
+    {
+        json s = small_scene();
+        s["materials"][0]["density"] = "2500 mg/m3";  // 2.5e-3 kg/m3, less than air
+        expect_refused(dir, "absurd_density", s, "/materials/0/density");
+    }
+    {
+        json s = small_scene();
         s["run"]["timestep"] = "1 ms";
         const Result r = expect_refused(dir, "timestep_above_limit", s, "/run/timestep");
         CHECK(r.err.find("stable limit") != std::string::npos);
@@ -521,14 +531,21 @@ TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends
         REQUIRE(scene_text >= 8);
         const std::uint64_t huge = 1ull << 50;
         std::memcpy(bytes.data() + scene_text - 8, &huge, sizeof huge);  // the scene's length
+        mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the length's own check
         write_text(dir.file("long_length.mrjam"), bytes);
         write_text(dir.file("cut.mrjam"), slurp(ck).substr(0, slurp(ck).size() / 2));
-        for (const char* damaged : {"long_length.mrjam", "cut.mrjam"}) {
+        // One bit flipped in the grains' state: without the checksum it ran, from the wrong state.
+        std::string flipped = slurp(ck);
+        flipped[flipped.size() / 2] ^= 1;
+        write_text(dir.file("flipped.mrjam"), flipped);
+        for (const char* damaged : {"long_length.mrjam", "cut.mrjam", "flipped.mrjam"}) {
             CAPTURE(damaged);
             const Result r = mrjam(dir, "run --resume " + quote(dir.file(damaged)) + " --report " + quote(dir.file("d.json")) + " --quiet");
             CHECK(r.exit_code == 2);
             CHECK(r.err.find("--resume") != std::string::npos);
             CHECK(r.err.find(damaged) != std::string::npos);
+            if (std::string(damaged) == "flipped.mrjam") CHECK(r.err.find("checksum") != std::string::npos);
+            if (std::string(damaged) == "long_length.mrjam") CHECK(r.err.find("longer than the rest") != std::string::npos);
         }
     }
 }

@@ -315,6 +315,7 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("huge_map", {{"field", {{"type", "map"}, {"file", huge}}}}, "/field/file");
     refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}}, "/grains/psd");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
+    refused("absurd_modulus", {{"material", {{"youngs_modulus", 1e-300}}}}, "/material/youngs_modulus");
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
     refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");

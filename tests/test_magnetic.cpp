@@ -40,6 +40,7 @@
 #include "magnetic/external_field.hpp"
 #include "magnetic/magnetic_model.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_node.hpp"
 #include "test_support.hpp"
 
 using mrjam_test::rel;
@@ -1083,6 +1084,40 @@ TEST_CASE("magnetic: forces held for k steps: the approach of two grains converg
         last_delay = delay;
         last_k = k;
     }
+}
+
+// Checkpoints written before another policy's settings were refused record all three in their
+// resolved scene; rebuilt to resume (no grains inserted) they must still be read, while the same
+// scene given new is refused at the first unused key.
+TEST_CASE("magnetic: another policy's settings are refused in a new scene, read in a checkpoint's") {
+    json scene_json = json::parse(R"({
+      "seed": 6,
+      "domain": {"lo": [0, 0, 0], "hi": ["40 um", "40 um", "40 um"], "periodic": "xyz"},
+      "materials": [{"name": "iron", "density": "7800 kg/m3", "youngs_modulus": "1 GPa"}],
+      "magnetic": {"field": {"type": "uniform", "flux_density": [0, 0, "200 mT"]},
+                   "mutual": "lagged", "iterations": 1, "tolerance": 1e-6, "max_iterations": 500},
+      "grains": [{"material": "iron", "size": {"distribution": "single", "diameter": "5 um"},
+                  "placement": {"method": "random", "volume_fraction": 0.1}}],
+      "run": {"duration": "1 us"}
+    })");
+    std::string refused_at;
+    try {
+        build_scene(scene_json, BuildOptions{});
+    } catch (const SceneError& e) {
+        refused_at = e.path();
+    }
+    CHECK(refused_at == "/magnetic/iterations");
+    BuildOptions resume;
+    resume.insert_grains = false;
+    const Scene restored = build_scene(scene_json, resume);
+    CHECK(restored.system.magnetic.settings.policy == MutualPolicy::lagged);
+    scene_json["magnetic"].erase("iterations");
+    scene_json["magnetic"].erase("tolerance");
+    scene_json["magnetic"].erase("max_iterations");
+    const Scene fresh = build_scene(scene_json, BuildOptions{});
+    // Only the policy's own settings are recorded, so a resolved scene can be run again as given.
+    CHECK_FALSE(fresh.resolved["magnetic"].contains("iterations"));
+    CHECK_FALSE(fresh.resolved["magnetic"].contains("tolerance"));
 }
 
 }  // TEST_SUITE

@@ -247,8 +247,20 @@ TEST_CASE("cli: bad magnetic input is refused with exit code 2 and the JSON path
     }
     {
         json s = magnetic_scene();
+        s["magnetic"]["mutual"] = "converged";
+        s["magnetic"].erase("iterations");
         s["magnetic"]["tolerance"] = 0;
         expect_refused(dir, "zero_tolerance", s, "/magnetic/tolerance");
+    }
+    {
+        // Settings of another policy would be ignored without a word.
+        json s = magnetic_scene();
+        s["magnetic"]["mutual"] = "lagged";  // the scene gives "iterations": 2
+        const Result r = expect_refused(dir, "iterations_for_lagged", s, "/magnetic/iterations");
+        CHECK(r.err.find("\"iterations\"") != std::string::npos);
+        s["magnetic"].erase("iterations");
+        s["magnetic"]["max_iterations"] = 50;
+        expect_refused(dir, "max_iterations_for_lagged", s, "/magnetic/max_iterations");
     }
     {
         json s = magnetic_scene();

@@ -66,4 +66,30 @@ TEST_CASE("shear scene: wall speeds give rates 2 v / gap; the default ladder is 
     CHECK_THROWS_AS(read_shear_spec(s, "fast"), SceneError);
 }
 
+// A material outside the engine's ranges is refused where it was given: a modulus of 1e-300 Pa
+// (a slip of units) at /material, and a real one scaled below the engine's floor at /scaling.
+TEST_CASE("shear scene: moduli and densities outside the ranges of solids are refused by name") {
+    auto path_of_refusal = [](const json& s) {
+        try {
+            read_shear_spec(s, "quick");
+        } catch (const SceneError& e) {
+            return e.path();
+        }
+        return std::string("accepted");
+    };
+    json s = base_scene();
+    CHECK(path_of_refusal(s) == "accepted");
+    s["material"]["youngs_modulus"] = 1e-300;
+    CHECK(path_of_refusal(s) == "/material/youngs_modulus");
+    s = base_scene();
+    s["material"]["density"] = 1e-300;
+    CHECK(path_of_refusal(s) == "/material/density");
+    s = base_scene();
+    s["material"]["youngs_modulus"] = "10 kPa";
+    s["scaling"] = {{"stiffness", 1e-3}};  // 10 Pa reaches the engine
+    CHECK(path_of_refusal(s) == "/scaling/stiffness");
+    s["scaling"] = {{"stiffness", 0.1}};
+    CHECK(path_of_refusal(s) == "accepted");
+}
+
 }  // TEST_SUITE

@@ -13,6 +13,7 @@
 #include "magnetic/external_field.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "scene/material_ranges.hpp"
 #include "scene/scene_parts.hpp"
 
 namespace mrjam {
@@ -170,8 +171,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // contact, and Table 2.1's MRF suite is one scene away, examples/valve_mix2_30x_table21.json).
     SceneNode mat = root.object("material");
     json material = {{"name", "iron"},
-                     {"density", mat.quantity("density", units::density, 7800.0, Bounds::positive())},
-                     {"youngs_modulus", mat.quantity("youngs_modulus", units::pressure, 1e9, Bounds::positive())},
+                     {"density", mat.quantity("density", units::density, 7800.0, density_range())},
+                     {"youngs_modulus", mat.quantity("youngs_modulus", units::pressure, 1e9, youngs_modulus_range())},
                      {"poisson_ratio", mat.number("poisson_ratio", 0.3, Bounds::closed(0.0, 0.5))},
                      {"restitution", mat.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0))},
                      {"friction", mat.number("friction", 0.4, Bounds::non_negative())},

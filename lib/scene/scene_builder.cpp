@@ -9,6 +9,7 @@
 #include "geometry/packing.hpp"
 #include "scene/scene.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/material_ranges.hpp"
 #include "scene/scene_parts.hpp"
 #include "spatial_sort.hpp"
 
@@ -60,8 +61,8 @@ Material read_material(SceneNode node) {
     Material m;
     m.name = node.text("name", std::nullopt);
     if (m.name.empty()) node.fail("name", "give the material a name (grains and walls refer to it)");
-    m.density = node.quantity("density", units::density, std::nullopt, Bounds::positive());
-    m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::positive());
+    m.density = node.quantity("density", units::density, std::nullopt, density_range());
+    m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, youngs_modulus_range());
     m.poisson_ratio = node.number("poisson_ratio", 0.3, Bounds::closed(-0.99, 0.5));
     m.restitution = node.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0));
     m.friction = node.number("friction", 0.5, Bounds::non_negative());
@@ -427,9 +428,18 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
                                            policy_name(tier.magnetic_policy));
     st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
               : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
-    st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
-    st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
-    st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
+    // Each policy's own settings. A new scene giving another policy's (iterations with
+    // "lagged") is refused: it would be silently ignored. A checkpoint's resolved scene, written
+    // before this check, records all three, so there they are read and left unused.
+    const bool counted = st.policy == MutualPolicy::iterations, converged = st.policy == MutualPolicy::converged;
+    for (const auto& [key, owner] : {std::pair{"iterations", "iterations"}, {"tolerance", "converged"}, {"max_iterations", "converged"}})
+        if (policy != owner && node.has(key) && options.insert_grains)
+            node.fail(key, std::string("is used only by \"mutual\": \"") + owner + "\", not \"" + policy +
+                               "\"; drop it, or choose \"" + owner + "\"");
+    if (counted || node.has("iterations")) st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
+    if (converged || node.has("tolerance")) st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
+    if (converged || node.has("max_iterations"))
+        st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
     st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto close = node.optional_object("close_pairs")) {
         // The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").

@@ -6,6 +6,7 @@
 
 #include "geometry/disc_packing.hpp"
 #include "geometry/size_distribution.hpp"
+#include "scene/material_ranges.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
@@ -150,8 +151,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
 
     {
         SceneNode mat = root.object("material");
-        const double youngs = mat.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::positive());
-        const double density = mat.quantity("density", units::density, std::nullopt, Bounds::positive());
+        const double youngs = mat.quantity("youngs_modulus", units::pressure, std::nullopt, youngs_modulus_range());
+        const double density = mat.quantity("density", units::density, std::nullopt, density_range());
         // The other material keys go to the engine's reader, which checks them (its refusals are
         // mapped back to /material/...); the echo keeps them as written.
         nlohmann::json echo = input.at("material");
@@ -165,6 +166,15 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         SceneNode sc = scaling ? *scaling : SceneNode(scaling_in, s.resolved["scaling"], "/scaling");
         s.stiffness_scale = sc.number("stiffness", tier.stiffness_scale, Bounds::open_closed(0.0, 1.0));
         s.density_scale = sc.number("density", tier.density_scale, Bounds::closed(1.0, 1e4));
+        // The scaled constants go to the engine, which holds them to the same ranges: say so here,
+        // where the scale that took them out was given.
+        if (!youngs_modulus_range().contains(youngs * s.stiffness_scale))
+            sc.fail("stiffness", "scales the modulus to " + std::to_string(youngs * s.stiffness_scale) +
+                                     " Pa, below the engine's floor (" + youngs_modulus_range().describe() +
+                                     "); scale it less or start from a stiffer material");
+        if (!density_range().contains(density * s.density_scale))
+            sc.fail("density", "scales the density to " + std::to_string(density * s.density_scale) +
+                                   " kg/m3, past the engine's range (" + density_range().describe() + "); scale it less");
         sc.finish();
         s.material["youngs_modulus"] = youngs * s.stiffness_scale;
         s.material["density"] = density * s.density_scale;
