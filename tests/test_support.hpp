@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 
 #include <atomic>
+#include <cstdint>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -54,6 +56,16 @@ inline void write_text(const std::string& path, const std::string& text) {
 }
 
 inline std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+// Rewrites the checksum that ends a checkpoint (FNV-1a 64 of every byte before it, the format in
+// lib/io/checkpoint.cpp), so a test can damage the state behind it and reach the reader's own
+// checks rather than the checksum's.
+inline void reseal_checkpoint(std::string& bytes) {
+    std::uint64_t sum = 0xcbf29ce484222325ull;
+    const std::size_t body = bytes.size() - 8;
+    for (std::size_t k = 0; k < body; ++k) sum = (sum ^ static_cast<unsigned char>(bytes[k])) * 0x100000001b3ull;
+    std::memcpy(bytes.data() + body, &sum, sizeof sum);
+}
 
 struct Result {
     int exit_code = -1;

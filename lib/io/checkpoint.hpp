@@ -24,7 +24,8 @@ struct CheckpointHeader {
     nlohmann::json resolved_scene;
     nlohmann::json history;  // observations recorded so far (e.g. a flux history)
     ProtocolPosition position;
-    int version = 6;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be held
+    int version = 7;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be held;
+                      // 6: before the checksum
 };
 
 // Reads the scene part; restore_state then fills a system built from that scene. Both throw
