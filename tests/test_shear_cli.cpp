@@ -338,6 +338,17 @@ TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and 
         CHECK(refused.exit_code == 2);
         CHECK((refused.err.find("--parameter") != std::string::npos || refused.err.find("--max-runs") != std::string::npos));
     }
+    // A range past what its key accepts (restitution in (0, 1], a negative friction, a
+    // permeability below 1) is refused before the first study, naming the corner and the key;
+    // it used to fail at the search's first step outside, after the studies before it.
+    for (const std::string range : {"restitution=0.5:1.5", "friction=-0.1:0.5", "relative_permeability=0.5:100"}) {
+        CAPTURE(range);
+        const Result refused = shear(dir, "range", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter " + range);
+        CHECK(refused.exit_code == 2);
+        CHECK(refused.err.find("--parameter") != std::string::npos);
+        CHECK(refused.err.find("/material/" + range.substr(0, range.find('='))) != std::string::npos);
+        CHECK(refused.err.find("corner") != std::string::npos);
+    }
     // A scene path that is a directory says so.
     const Result directory = mrjam(dir, "shear " + quote(dir.file("")) + " --quiet");
     CHECK(directory.exit_code == 2);

@@ -147,6 +147,37 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
     return out;
 }
 
+namespace {
+
+// The shear scene of one evaluation: `input` with each parameter set to its value in `x`.
+nlohmann::json with_values(nlohmann::json input, const ShearSpec& spec, const std::vector<CalibrationParameter>& params,
+                           const std::vector<double>& x) {
+    for (std::size_t k = 0; k < params.size(); ++k) {
+        if (params[k].pointer.empty()) input["field"]["flux_density"] = spec.flux_density * x[k];
+        else input[nlohmann::json::json_pointer(params[k].pointer)] = x[k];
+    }
+    return input;
+}
+
+// Every corner of the search box must make a scene the reader and the engine take: found out
+// at the search's first step outside, it would stop the calibration hours in.
+void check_box(const nlohmann::json& base, const ShearSpec& spec, const std::vector<CalibrationParameter>& params) {
+    for (unsigned corner = 0; corner < (1u << params.size()); ++corner) {
+        std::vector<double> x;
+        for (std::size_t k = 0; k < params.size(); ++k) x.push_back(corner >> k & 1 ? params[k].hi : params[k].lo);
+        try {
+            check_engine_accepts(read_shear_spec(with_values(base, spec, params, x), spec.tier));
+        } catch (const SceneError& e) {
+            std::ostringstream at;
+            for (std::size_t k = 0; k < params.size(); ++k) at << (k ? ", " : "") << params[k].name << " = " << x[k];
+            throw SceneError("--parameter", "the scene is refused at the corner " + at.str() + " of the range: " + e.what() +
+                                                "; keep MIN and MAX inside what that key accepts");
+        }
+    }
+}
+
+}  // namespace
+
 nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, const std::vector<CalibrationParameter>& params,
                          int max_runs, const ShearOptions& options) {
     nlohmann::json base = spec.input;
@@ -159,6 +190,7 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
     base["ladder"] = ladder;
     base.erase("field_sweep");
     const std::string root_dir = spec.output_directory;
+    check_box(base, spec, params);
 
     nlohmann::json result = {{"status", "complete"}, {"exit_status", 0}, {"runs", nlohmann::json::array()},
                              {"data_points", data.points.size()}, {"parameters", nlohmann::json::array()},
@@ -170,14 +202,13 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
 
     auto evaluate = [&](const std::vector<double>& x) -> double {
         if (stop || static_cast<int>(result["runs"].size()) >= max_runs) return 1e300;
-        nlohmann::json input = base;
+        std::vector<double> clamped;
         nlohmann::json values = nlohmann::json::object();
         for (std::size_t k = 0; k < params.size(); ++k) {
-            const double v = std::clamp(x[k], params[k].lo, params[k].hi);
-            values[params[k].name] = v;
-            if (params[k].pointer.empty()) input["field"]["flux_density"] = spec.flux_density * v;
-            else input[nlohmann::json::json_pointer(params[k].pointer)] = v;
+            clamped.push_back(std::clamp(x[k], params[k].lo, params[k].hi));
+            values[params[k].name] = clamped.back();
         }
+        nlohmann::json input = with_values(base, spec, params, clamped);
         const int run = static_cast<int>(result["runs"].size());
         input["output"]["directory"] = (std::filesystem::path(root_dir) / ("calibrate_run_" + std::to_string(run))).string();
         const ShearSpec s = read_shear_spec(input, spec.tier);

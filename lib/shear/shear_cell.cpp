@@ -78,6 +78,20 @@ std::string checkpoint_path(const ShearSpec& spec, const ShearOptions& o) {
     throw SceneError(shear_path_of(e.path()), message);
 }
 
+}  // namespace
+
+void check_engine_accepts(const ShearSpec& spec) {
+    BuildOptions build;
+    build.insert_grains = false;
+    try {
+        build_scene(engine_scene(spec, spec.flux_density), build);
+    } catch (const SceneError& e) {
+        rethrow_as_shear(e);
+    }
+}
+
+namespace {
+
 class Study {
 public:
     Study(const ShearSpec& spec, const ShearOptions& options) : spec_(spec), options_(options), cells_(plan_of(spec)) {}

@@ -31,6 +31,10 @@ struct ShearOutcome {
     double wall_time = 0;
 };
 
+// Builds the engine scene of `spec`'s first cell without its grains, as a cheap check that the
+// engine takes every value; throws SceneError with the shear scene's path otherwise.
+void check_engine_accepts(const ShearSpec& spec);
+
 // Runs a study from the start. Throws SceneError on input the engine refuses (paths of the shear
 // scene), before any stepping.
 ShearOutcome run_shear_study(const ShearSpec& spec, const ShearOptions& options);
