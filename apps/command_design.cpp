@@ -164,8 +164,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const JamScene js = design_jam_scene(spec, jscene, args->fidelity);
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are
-            // reported, from the map as written (17 digits: as solved).
-            const FieldMap field_map = FieldMap::read(map.string());
+            // reported, from the map as written (17 digits: as solved) and read by the jam scene.
+            const FieldMap& field_map = *js.field_map;
             const double taper_middle_z = js.valve.taper_start_z() + 0.5 * js.valve.taper_length;
             const json field_on_axis = {{"throat_centre_T", norm(field_map.flux_density({0, 0, 0}, 0))},
                                         {"taper_middle_T", norm(field_map.flux_density({0, 0, taper_middle_z}, 0))},

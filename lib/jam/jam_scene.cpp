@@ -320,6 +320,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                 "..." + std::to_string(v.downstream_length) +
                                                 " m); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
+        out.field_map = std::make_shared<const FieldMap>(std::move(map));
     }
     field.finish();
 

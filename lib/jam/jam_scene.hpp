@@ -7,11 +7,13 @@
 // constant feed at the mix's volume fraction without inflow/outflow bookkeeping (the bore far
 // from the throat is a straight cylinder, so the seam is invisible to it).
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "geometry/valve.hpp"
+#include "magnetic/external_field.hpp"
 
 namespace mrjam {
 
@@ -61,6 +63,9 @@ struct JamScene {
     double largest_diameter = 0;
     double feed_fraction = 0;       // the mix's volume fraction
     std::string field_type;         // uniform or map
+    // The map as read to check that it covers the valve (unscaled), kept for callers that look
+    // the field up themselves (the design's values on the axis); null for a uniform field.
+    std::shared_ptr<const FieldMap> field_map;
     bool batch_supply = false;      // model/supply "batch": grains leaving downstream are removed, none enter
     std::string tier;
 
