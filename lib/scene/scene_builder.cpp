@@ -9,20 +9,14 @@
 #include "geometry/packing.hpp"
 #include "scene/scene.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/material_ranges.hpp"
 #include "scene/scene_parts.hpp"
+#include "scene/scene_physics.hpp"
 #include "spatial_sort.hpp"
 
 namespace mrjam {
 namespace {
 
 constexpr double kRandomClosePacking = 0.64;
-
-std::string fmt(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
 
 // A placement's region (the whole box by default). On an axis that is not periodic it must lie
 // inside the box: grains placed outside it leave at the first step, which read as a blow-up.
@@ -32,8 +26,8 @@ Region placement_region(SceneNode& place, const Domain& domain) {
     const Vec3 lo = region.bbox_lo(), hi = region.bbox_hi();
     for (int k = 0; k < 3; ++k)
         if (!domain.periodic[k] && (lo[k] < domain.lo[k] || hi[k] > domain.hi[k]))
-            place.fail("region", std::string("reaches outside the domain along ") + char('x' + k) + " (" + fmt(lo[k]) + " to " +
-                                     fmt(hi[k]) + " m against " + fmt(domain.lo[k]) + " to " + fmt(domain.hi[k]) +
+            place.fail("region", std::string("reaches outside the domain along ") + char('x' + k) + " (" + format_number(lo[k]) + " to " +
+                                     format_number(hi[k]) + " m against " + format_number(domain.lo[k]) + " to " + format_number(domain.hi[k]) +
                                      " m), which is not periodic: keep it inside /domain");
     return region;
 }
@@ -57,89 +51,6 @@ Domain read_domain(SceneNode node) {
     return d;
 }
 
-Material read_material(SceneNode node) {
-    Material m;
-    m.name = node.text("name", std::nullopt);
-    if (m.name.empty()) node.fail("name", "give the material a name (grains and walls refer to it)");
-    m.density = node.quantity("density", units::density, std::nullopt, density_range());
-    m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, youngs_modulus_range());
-    m.poisson_ratio = node.number("poisson_ratio", 0.3, Bounds::closed(-0.99, 0.5));
-    m.restitution = node.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0));
-    m.friction = node.number("friction", 0.5, Bounds::non_negative());
-    m.rolling_friction = node.number("rolling_friction", 0.0, Bounds::non_negative());
-    m.rolling_damping = node.number("rolling_damping", 0.0, Bounds::non_negative());
-    m.rolling_stiffness = node.quantity("rolling_stiffness", units::stiffness, 0.0, Bounds::non_negative());
-    m.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
-    m.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative());
-    m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::non_negative());
-    m.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7));
-    m.saturation_magnetisation = node.quantity("saturation_magnetisation", units::magnetic_field, 1.7e6, Bounds::positive());
-    m.remanent_magnetisation = node.quantity("remanent_magnetisation", units::magnetic_field, 0.0, Bounds::non_negative());
-    if (node.has("remanence_direction") && node.raw("remanence_direction").is_array()) {
-        const Vec3 d = node.vector("remanence_direction", units::dimensionless, std::nullopt);
-        if (norm(d) == 0) node.fail("remanence_direction", "must be a non-zero vector, or \"random\"");
-        m.remanence_direction = d / norm(d);
-        m.random_remanence_direction = false;
-    } else {
-        node.choice("remanence_direction", {"random"}, "random");
-    }
-    node.finish();
-    return m;
-}
-
-// One pair's friction and cohesion in place of the mixing rule's means: {"materials": [a, b],
-// "friction", "rolling_friction", "cohesion_energy_density"} (each defaulting to the mean it
-// replaces).
-void read_material_pair(SceneNode node, const std::vector<std::string>& names, PairTable& pairs) {
-    const json& list = node.raw("materials");
-    if (!list.is_array() || list.size() != 2 || !list[0].is_string() || !list[1].is_string())
-        node.fail("materials", "must be two material names, e.g. [\"iron\", \"glass\"]");
-    std::uint16_t index[2];
-    for (int k = 0; k < 2; ++k) {
-        const auto it = std::find(names.begin(), names.end(), list[k].get<std::string>());
-        if (it == names.end())
-            node.fail("materials", "names no material called \"" + list[k].get<std::string>() + "\"; define it in /materials");
-        index[k] = static_cast<std::uint16_t>(it - names.begin());
-    }
-    PairCoefficients c = pairs(index[0], index[1]);
-    c.friction = node.number("friction", c.friction, Bounds::non_negative());
-    c.rolling_friction = node.number("rolling_friction", c.rolling_friction, Bounds::non_negative());
-    c.cohesion_energy_density =
-        node.quantity("cohesion_energy_density", units::pressure, c.cohesion_energy_density, Bounds::non_negative());
-    node.finish();
-    pairs.set_pair(index[0], index[1], c);
-}
-
-void read_contact(SceneNode node, PhysicsSettings& ph) {
-    ph.contact = node.choice("model", {"hertz_mindlin", "none"}, "hertz_mindlin") == "hertz_mindlin";
-    const std::string rolling = node.choice("rolling", {"none", "epsd", "sds"}, "none");
-    ph.rolling = rolling == "epsd" ? RollingModel::epsd : rolling == "sds" ? RollingModel::sds : RollingModel::none;
-    const std::string cohesion = node.choice("cohesion", {"none", "sjkr", "dmt"}, "none");
-    ph.cohesion = cohesion == "sjkr" ? CohesionModel::sjkr : cohesion == "dmt" ? CohesionModel::dmt : CohesionModel::none;
-    ph.pair_damping = node.quantity("pair_damping", units::damping, 0.0, Bounds::non_negative());
-    if (ph.pair_damping > 0 && !ph.contact) node.fail("pair_damping", "acts between touching grains: it needs the hertz_mindlin contact model");
-    node.finish();
-}
-
-// Induced coefficient (eq. 2.4), saturation cap and permanent moment of a grain.
-void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng& rng) {
-    const double r = p.radius[i];
-    const double volume = 4.0 / 3.0 * M_PI * r * r * r;
-    const double mu = m.relative_permeability;
-    p.induced_coefficient[i] = 4.0 * M_PI * r * r * r * (mu - 1.0) / (mu + 2.0);
-    p.saturation_moment[i] = m.saturation_magnetisation * volume;
-    p.orientation[i] = Quaternion{};
-    if (m.remanent_magnetisation > 0) {
-        Vec3 dir = m.remanence_direction;
-        if (m.random_remanence_direction) {  // uniform on the sphere
-            const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, 2.0 * M_PI);
-            const double rho = std::sqrt(1.0 - z * z);
-            dir = {rho * std::cos(phi), rho * std::sin(phi), z};
-        }
-        p.permanent_moment[i] = dir * (m.remanent_magnetisation * volume);
-    }
-}
-
 // One batch of grains: a material, a size distribution, a placement and initial motion.
 void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& names, Rng& rng, bool insert) {
     System& s = scene.system;
@@ -158,8 +69,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     // thickness may equal the largest diameter.
     for (int k = 0; k < 3; ++k)
         if (k == mono ? sizes.max_diameter() > s.domain.length()[k] : sizes.max_diameter() >= s.domain.length()[k])
-            node.fail("size", "the largest grain (" + fmt(sizes.max_diameter()) + " m) does not fit in the box (" +
-                                  fmt(s.domain.length()[k]) + " m along " + char('x' + k) + "); enlarge /domain");
+            node.fail("size", "the largest grain (" + format_number(sizes.max_diameter()) + " m) does not fit in the box (" +
+                                  format_number(s.domain.length()[k]) + " m along " + char('x' + k) + "); enlarge /domain");
     const Vec3 spin = node.vector("angular_velocity", units::frequency, Vec3{});
     const Vec3 v0 = node.vector("velocity", units::velocity, Vec3{});
     const double random_speed = node.quantity("random_velocity", units::velocity, 0.0, Bounds::non_negative());
@@ -168,7 +79,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     if (method == "random") {
         const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
         if (phi > kRandomClosePacking)
-            place.fail("volume_fraction", "cannot exceed random close packing of spheres, " + fmt(kRandomClosePacking));
+            place.fail("volume_fraction", "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
         const Region region = placement_region(place, s.domain);
         PackingOptions opt;
         opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
@@ -180,8 +91,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
                 const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
                 spheres = r.spheres;
                 if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed volume fraction " + fmt(r.achieved_volume_fraction) +
-                                             " differs from the requested " + fmt(phi));
+                    scene.warnings.push_back(node.path() + ": packed volume fraction " + format_number(r.achieved_volume_fraction) +
+                                             " differs from the requested " + format_number(phi));
             } catch (const std::exception& e) {
                 place.fail("volume_fraction", e.what());
             }
@@ -189,7 +100,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     } else if (method == "monolayer") {
         const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
         if (phi > kRandomClosePackingDiscs)
-            place.fail("area_fraction", "cannot exceed random close packing of discs, " + fmt(kRandomClosePackingDiscs) +
+            place.fail("area_fraction", "cannot exceed random close packing of discs, " + format_number(kRandomClosePackingDiscs) +
                                             "; lower it (0.5 is a loose monolayer)");
         PackingOptions opt;
         opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
@@ -199,8 +110,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
                 const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
                 spheres = r.discs;
                 if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed area fraction " + fmt(r.achieved_area_fraction) +
-                                             " differs from the requested " + fmt(phi));
+                    scene.warnings.push_back(node.path() + ": packed area fraction " + format_number(r.achieved_area_fraction) +
+                                             " differs from the requested " + format_number(phi));
             } catch (const std::exception& e) {
                 place.fail("area_fraction", e.what());
             }
@@ -210,7 +121,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
             node.fail("size", "lattice placement needs a single grain size");
         const double diameter = sizes.max_diameter();
         const double spacing = place.quantity("spacing", units::length, diameter, Bounds::positive());
-        if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + fmt(diameter));
+        if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + format_number(diameter));
         const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
         const Region region = placement_region(place, s.domain);
         place.finish();
@@ -235,12 +146,12 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
             // as "left the box"; say so here, with the position's path.
             if (mono >= 0 && std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) > 1e-9 * s.domain.length()[mono])
                 item.fail(index, std::string("a monolayer's grains lie in its mid-plane: set the ") + char('x' + mono) +
-                                     " coordinate to " + fmt(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) + " m");
+                                     " coordinate to " + format_number(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) + " m");
             for (int k = 0; k < 3; ++k)
                 if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
                     item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +
-                                         fmt(centre[k]) + " m, box " + fmt(s.domain.lo[k]) + " to " +
-                                         fmt(s.domain.hi[k]) + " m), which is not periodic");
+                                         format_number(centre[k]) + " m, box " + format_number(s.domain.lo[k]) + " to " +
+                                         format_number(s.domain.hi[k]) + " m), which is not periodic");
             spheres.push_back({centre, 0.5 * sizes.max_diameter()});
         }
         place.finish();
@@ -281,7 +192,7 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
             const std::size_t b = batch_of(i);
             throw SceneError("/walls/" + std::to_string(w),
                              "wall '" + s.walls[w].name + "' cuts through grain " + std::to_string(i - (b == 0 ? 0 : batch_end[b - 1])) +
-                                 " of /grains/" + std::to_string(b) + " (overlap " + fmt(overlap / s.particles.radius[i]) +
+                                 " of /grains/" + std::to_string(b) + " (overlap " + format_number(overlap / s.particles.radius[i]) +
                                  " of its radius): keep the grains' region or positions clear of the wall");
         }
     if (n < 2) return;
@@ -305,7 +216,7 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
     if (!(worst > s.max_overlap_fraction)) return;
     std::size_t bi = batch_of(wi), bj = batch_of(wj);
     if (bi > bj) { std::swap(bi, bj); std::swap(wi, wj); }
-    const std::string ratio = fmt(worst), limit = fmt(s.max_overlap_fraction);
+    const std::string ratio = format_number(worst), limit = format_number(s.max_overlap_fraction);
     if (bi != bj)
         throw SceneError("/grains/" + std::to_string(bj) + "/placement",
                          "its grains overlap those of /grains/" + std::to_string(bi) + " by up to " + ratio +
@@ -369,105 +280,6 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     if (node.has("flow")) st.flow = read_flow(node.object("flow"), scene.system.domain);
     node.finish();
     return st;
-}
-
-// The close-pair table is for one permeability: every magnetisable grain must share it, and the
-// magnetic list must reach the correction's range for the smallest and largest grains.
-void build_close_pair_table(System& s, double r_max) {
-    const Particles& p = s.particles;
-    double beta = -1, r_min = r_max;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        r_min = std::min(r_min, p.radius[i]);
-        if (p.induced_coefficient[i] <= 0) continue;
-        const double b = p.induced_coefficient[i] / (4.0 * M_PI * std::pow(p.radius[i], 3));
-        if (beta < 0) beta = b;
-        else if (std::abs(b - beta) > 1e-9 * beta)
-            throw SceneError("/magnetic/close_pairs", "the correction is tabulated for one permeability, and the grains' "
-                                                      "materials differ in relative_permeability; give them one, or drop close_pairs");
-    }
-    if (beta <= 0) throw SceneError("/magnetic/close_pairs", "no grain is magnetisable (relative_permeability 1); drop close_pairs");
-    const ClosePairSettings& cs = s.magnetic.settings.close_pairs;
-    for (double r : {r_min, r_max})
-        if (s.magnetic.pairs.interaction_range(r, r) < (2.0 + cs.range) * r)
-            throw SceneError("/magnetic/close_pairs/range", "the magnetic cutoff does not reach a gap of " + fmt(cs.range) +
-                                                                " radii; lengthen the cutoff or shorten the range");
-    s.magnetic.close_pair_table = ClosePairTable((1.0 + 2.0 * beta) / (1.0 - beta), cs);
-}
-
-void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier) {
-    MagneticModel& mag = s.magnetic;
-    mag.enabled = true;
-    SceneNode field = node.object("field");
-    const std::string type = field.choice("type", {"uniform", "map"}, "uniform");
-    if (type == "uniform") {
-        const Vec3 b = field.vector("flux_density", units::magnetic_flux_density, std::nullopt);
-        const double on = field.quantity("switch_on", units::time, 0.0, Bounds::non_negative());
-        const double ramp = field.quantity("ramp", units::time, 0.0, Bounds::non_negative());
-        const double off = field.quantity("switch_off", units::time, std::numeric_limits<double>::max(), Bounds::positive());
-        if (!(off > on)) field.fail("switch_off", "must come after switch_on");
-        mag.field = std::make_shared<UniformField>(b, on, ramp, off);
-    } else {
-        std::string file = field.text("file", std::nullopt);
-        if (!file.empty() && file[0] != '/' && !options.base_directory.empty()) file = options.base_directory + "/" + file;
-        // Absolute as resolved, so a checkpoint resumed from another directory finds the same map.
-        if (!file.empty()) file = std::filesystem::absolute(file).lexically_normal().string();
-        field.resolved_child("file") = file;
-        const double scale = field.number("scale", 1.0, Bounds::any());
-        if (!std::filesystem::exists(file))
-            field.fail("file", "no field map at " + file + " (the format, a text grid of B, is in docs/scene.md under "
-                                                           "\"Magnetic forces\"; a relative path is taken from the scene file's folder)");
-        try {
-            mag.field = std::make_shared<FieldMap>(FieldMap::read(file, scale));
-        } catch (const std::exception& e) {
-            field.fail("file", e.what());
-        }
-    }
-    field.finish();
-    MagneticSettings& st = mag.settings;
-    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"},
-                                           policy_name(tier.magnetic_policy));
-    st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
-              : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
-    // Each policy's own settings. A new scene giving another policy's (iterations with
-    // "lagged") is refused: it would be silently ignored. A checkpoint's resolved scene, written
-    // before this check, records all three, so there they are read and left unused.
-    const bool counted = st.policy == MutualPolicy::iterations, converged = st.policy == MutualPolicy::converged;
-    for (const auto& [key, owner] : {std::pair{"iterations", "iterations"}, {"tolerance", "converged"}, {"max_iterations", "converged"}})
-        if (policy != owner && node.has(key) && options.insert_grains)
-            node.fail(key, std::string("is used only by \"mutual\": \"") + owner + "\", not \"" + policy +
-                               "\"; drop it, or choose \"" + owner + "\"");
-    if (counted || node.has("iterations")) st.iterations = static_cast<int>(node.integer("iterations", 1, 1, 1000));
-    if (converged || node.has("tolerance")) st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
-    if (converged || node.has("max_iterations"))
-        st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
-    st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
-    if (auto close = node.optional_object("close_pairs")) {
-        // The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").
-        st.close_pairs.enabled = true;
-        st.close_pairs.min_gap = close->number("min_gap", st.close_pairs.min_gap, Bounds::closed(0.005, 1.0));
-        st.close_pairs.range = close->number("range", st.close_pairs.range, Bounds::closed(0.1, 4.0));
-        if (!(st.close_pairs.range > st.close_pairs.min_gap))
-            close->fail("range", "must exceed min_gap (both are surface gaps in radii)");
-        close->finish();
-    }
-    if (auto cut = node.optional_object("cutoff")) {
-        const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
-        if (given != 1) cut->fail("diameters", "give exactly one of 'diameters', 'beyond_contact' or 'length'");
-        if (cut->has("diameters")) {
-            st.cutoff_scale = cut->number("diameters", std::nullopt, Bounds::closed(1.0, 100.0));
-        } else if (cut->has("beyond_contact")) {
-            st.cutoff_scale = 1.0;
-            st.cutoff_extra = cut->quantity("beyond_contact", units::length, std::nullopt, Bounds::non_negative());
-        } else {
-            st.cutoff_scale = 0.0;
-            st.cutoff_extra = cut->quantity("length", units::length, std::nullopt, Bounds::positive());
-        }
-        cut->finish();
-    } else {
-        st.cutoff_scale = tier.magnetic_cutoff_diameters;
-        node.resolved_child("cutoff") = {{"diameters", st.cutoff_scale}};
-    }
-    node.finish();
 }
 
 void read_output(SceneNode node, OutputPlan& out) {
@@ -625,18 +437,18 @@ void choose_timestep(Scene& scene) {
         if (s.domain.periodic[k] && s.contacts.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
             throw SceneError("/domain/hi", "the box is too short along the periodic axis " + std::string(1, char('x' + k)) +
                                                ": it must be more than twice the neighbour cutoff of the largest grains (" +
-                                               fmt(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
+                                               format_number(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
 
     if (s.magnetic.enabled) {
         const MagneticSettings& ms = s.magnetic.settings;
         s.magnetic.pairs = NeighborList(NeighborList::Settings{skin, ms.cutoff_scale, false, ms.cutoff_extra});
         if (s.magnetic.pairs.interaction_range(r_max, r_max) < 2 * r_max)
-            throw SceneError("/magnetic/cutoff", "the magnetic range (" + fmt(s.magnetic.pairs.interaction_range(r_max, r_max)) +
+            throw SceneError("/magnetic/cutoff", "the magnetic range (" + format_number(s.magnetic.pairs.interaction_range(r_max, r_max)) +
                                                      " m for the largest grains) is shorter than contact; it must reach at least the touching neighbours");
         for (int k = 0; k < 3; ++k)
             if (s.domain.periodic[k] && s.magnetic.pairs.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
                 throw SceneError("/magnetic/cutoff", "the magnetic cutoff of the largest grains (" +
-                                                         fmt(s.magnetic.pairs.pair_cutoff(r_max, r_max)) + " m with the skin) exceeds half the periodic box along " +
+                                                         format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max)) + " m with the skin) exceeds half the periodic box along " +
                                                          std::string(1, char('x' + k)) + "; shorten the cutoff or enlarge the box");
         s.magnetic.any_permanent = false;
         for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
@@ -647,10 +459,10 @@ void choose_timestep(Scene& scene) {
     scene.limits = timestep_limits(s, scene.characteristic_speed);
     if (scene.requested_timestep > 0) {
         if (scene.requested_timestep > scene.limits.stable_limit)
-            throw SceneError("/run/timestep", "the requested step " + fmt(scene.requested_timestep) +
-                                                  " s is above the stable limit " + fmt(scene.limits.stable_limit) + " s (" +
-                                                  fmt(kMaxStepFraction) + " of the " + scene.limits.limiting + ", " +
-                                                  fmt(scene.limits.critical) + " s); use a shorter step or \"auto\"");
+            throw SceneError("/run/timestep", "the requested step " + format_number(scene.requested_timestep) +
+                                                  " s is above the stable limit " + format_number(scene.limits.stable_limit) + " s (" +
+                                                  format_number(kMaxStepFraction) + " of the " + scene.limits.limiting + ", " +
+                                                  format_number(scene.limits.critical) + " s); use a shorter step or \"auto\"");
         s.dt = scene.requested_timestep;
     } else {
         // Nothing that moves on its own time scale (no contact law, drag or damping): no limit.
@@ -668,7 +480,7 @@ void choose_timestep(Scene& scene) {
         const double steps = std::ceil(st.duration / s.dt - 1e-9);
         if (!(steps <= kMaxSteps))
             throw SceneError(st.path + "/duration",
-                             "needs " + fmt(steps) + " steps of " + fmt(s.dt) + " s, more than " + fmt(kMaxSteps) +
+                             "needs " + format_number(steps) + " steps of " + format_number(s.dt) + " s, more than " + format_number(kMaxSteps) +
                                  ": check the duration's units, or the materials' that set the step (" + scene.limits.limiting + ")");
         st.steps = std::max(1L, static_cast<long>(steps));
     }

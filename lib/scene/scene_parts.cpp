@@ -1,11 +1,19 @@
 #include "scene/scene_parts.hpp"
 
+#include <sstream>
+
 #include <cmath>
 
 #include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 
 namespace mrjam {
+
+std::string format_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
 
 int read_axis(SceneNode& node, const std::string& key, std::optional<std::string> fallback) {
     const std::string a = node.choice(key, {"x", "y", "z"}, fallback);

@@ -12,6 +12,8 @@
 
 namespace mrjam {
 
+// A number as a message shows it (the shortest of fixed and scientific, 6 digits).
+std::string format_number(double v);
 int read_axis(SceneNode& node, const std::string& key, std::optional<std::string> fallback);
 Region read_region(SceneNode node, const Domain& domain);
 SizeDistribution read_size_distribution(SceneNode node);
