@@ -66,6 +66,7 @@ void add_flow_bench_command(CLI::App& bench, int& exit_status) {
         ->capture_default_str();
     flow->add_option("--json", args->json_out, "Write the figures as JSON here");
     flow->callback([args, &exit_status] {
+        if (!args->json_out.empty()) prepare_output_file(args->json_out, "--json");
         ValveGeometry v;  // the 30x valve, quick tier's stretch
         v.upstream_length = 1.0e-3;
         v.downstream_length = 0.5e-3;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "geometry/size_distribution.hpp"
 #include "integrator.hpp"
@@ -31,6 +32,7 @@
 #include "observers.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
+#include "scene/scene_parts.hpp"
 #include "timestep.hpp"
 
 namespace mrjam::cli {
@@ -640,6 +642,13 @@ void run_accuracy_bench(const AccuracyArgs& args) {
     const double side_min = 2.0 * (8.0 * dmax + skin_estimate) * 1.03;
     const double lxy = bulk ? std::max(side_min, std::cbrt(solid)) : side_min;
     const double lz = bulk ? lxy : solid / (lxy * lxy);
+    // The slab's side is fixed by the cutoff, so its height comes from the count: at least two
+    // of the largest grains.
+    if (!bulk && lz < 2.0 * dmax) {
+        const double fewest = std::ceil(2.0 * dmax * lxy * lxy * kVolumeFraction / sizes.mean_particle_volume());
+        throw SceneError("--grains", "is too few for the slab (its side is fixed by the cutoff at " + format_number(lxy * 1e6) +
+                                         " um): give at least " + format_number(fewest) + ", or 0 for the default");
+    }
     const nlohmann::json size = {{"distribution", "lognormal"},
                                  {"median_diameter", kDiameter},
                                  {"sigma_ln", sigma},
@@ -835,6 +844,7 @@ void add_magnetic_bench_commands(CLI::App& bench, int& exit_status) {
         ->capture_default_str();
     magnetic->add_option("--json", margs->json_out, "Write the figures as JSON here");
     magnetic->callback([margs, &exit_status] {
+        if (!margs->json_out.empty()) prepare_output_file(margs->json_out, "--json");
         run_magnetic_bench(*margs);
         exit_status = 0;
     });
@@ -878,6 +888,7 @@ void add_magnetic_bench_commands(CLI::App& bench, int& exit_status) {
     accuracy->callback([aargs, &exit_status] {
         if (aargs->early_step >= aargs->form_steps)
             throw CLI::ValidationError("--early-step", "must be below --form-steps");
+        if (!aargs->json_out.empty()) prepare_output_file(aargs->json_out, "--json");
         run_accuracy_bench(*aargs);
         exit_status = 0;
     });

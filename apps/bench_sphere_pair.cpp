@@ -9,9 +9,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "magnetic/sphere_pair_exact.hpp"
 #include "run/runner.hpp"
+#include "scene/scene_parts.hpp"
 
 namespace mrjam::cli {
 
@@ -78,6 +80,16 @@ void add_sphere_pair_bench_command(CLI::App& bench, int& exit_status) {
         ->capture_default_str();
     pair->add_option("--json", args->json_out, "Write the table as JSON here");
     pair->callback([args, &exit_status] {
+        // Relative permeability 1 is no magnetisation (every ratio 0/0), and gaps past these ends
+        // are below the double's resolution of the centre distance or past any force worth tabling.
+        for (double mu : args->permeabilities)
+            if (!(mu > 1 && mu <= 1e7))
+                throw SceneError("--permeability", "must be above 1 (a grain of permeability 1 is not magnetised) and at most 1e7, not " +
+                                                       format_number(mu));
+        for (double gap : args->gaps)
+            if (!(gap >= 1e-6 && gap <= 1e3))
+                throw SceneError("--gap", "must be between 1e-6 and 1000 radii, not " + format_number(gap));
+        if (!args->json_out.empty()) prepare_output_file(args->json_out, "--json");
         run_sphere_pair_bench(*args);
         exit_status = 0;
     });

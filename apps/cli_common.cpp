@@ -63,12 +63,22 @@ nlohmann::json read_json_file(const std::string& path) {
     return parsed;
 }
 
-void prepare_output_file(const std::string& path, const std::string& option) {
+void prepare_output_file(const std::string& path, const std::string& option, const std::vector<std::string>& inputs) {
     namespace fs = std::filesystem;
     if (path.empty()) throw SceneError(option, "is empty: give a file name such as report.json");
     const fs::path p(path);
     if (!p.has_filename() || fs::is_directory(p))
         throw SceneError(option, path + " is a directory: give a file name such as " + (p / "report.json").string());
+    // The same file: one path through a link or a "./", or (not written yet) the same path.
+    auto same_file = [&](const std::string& input) {
+        std::error_code e1, e2, e3;
+        if (fs::equivalent(p, input, e1)) return true;
+        const fs::path a = fs::weakly_canonical(p, e2), b = fs::weakly_canonical(input, e3);
+        return !e2 && !e3 && a == b;
+    };
+    for (const std::string& input : inputs)
+        if (!input.empty() && same_file(input))
+            throw SceneError(option, path + " is also this command's input " + input + ": writing it would lose that; give another file");
     if (p.has_parent_path()) prepare_output_directory(p.parent_path().string(), option);
 }
 

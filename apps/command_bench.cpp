@@ -21,6 +21,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "contact/restitution.hpp"
 #include "integrator.hpp"
@@ -343,12 +344,15 @@ void add_bench_command(CLI::App& app, int& exit_status) {
     bench->require_subcommand(1);
     auto args = std::make_shared<BenchArgs>();
     CLI::App* contact = bench->add_subcommand("contact", "Hertz-Mindlin contact engine: grain-steps per second");
-    contact->add_option("--grains", args->grains, "Number of grains")->check(CLI::Range(10L, 10000000L))->capture_default_str();
+    contact->add_option("--grains", args->grains, "Number of grains")->check(CLI::Range(11L, 10000000L))->capture_default_str();
     contact->add_option("--steps", args->steps, "Timed steps")->check(CLI::Range(1L, 100000000L))->capture_default_str();
     contact->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     contact->add_option("--write-data", args->write_data, "Also write the initial state as a LAMMPS data file (for LIGGGHTS)");
     contact->add_option("--json", args->json_out, "Write the figures as JSON here");
     contact->callback([args, &exit_status] {
+        // Checked before the benchmark: found at its end, a bad path lost the run.
+        if (!args->json_out.empty()) prepare_output_file(args->json_out, "--json");
+        if (!args->write_data.empty()) prepare_output_file(args->write_data, "--write-data", {args->json_out});
         BuildOptions build;
         build.threads = args->threads;
         const auto setup0 = std::chrono::steady_clock::now();
@@ -394,6 +398,7 @@ void add_bench_command(CLI::App& app, int& exit_status) {
         "restitution", "Accuracy of the time step: realised restitution and contact duration vs steps per contact");
     restitution->add_option("--json", *restitution_json, "Write the figures as JSON here");
     restitution->callback([restitution_json, &exit_status] {
+        if (!restitution_json->empty()) prepare_output_file(*restitution_json, "--json");
         run_restitution_bench(*restitution_json);
         exit_status = 0;
     });

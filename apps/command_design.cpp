@@ -58,12 +58,12 @@ void add_design_command(CLI::App& app, int& exit_status) {
                   "Continue the interrupted design of this file: finished constrictions and solved fields are kept, "
                   "the running seed resumes from its checkpoint");
     cmd->callback([args, fidelity, &exit_status] {
+        prepare_output_file(args->report, "--report", {args->scene});
         const json design = read_json_file(args->scene);
         const DesignSpec spec = read_design_spec(design, args->scene);
         const auto& constrictions = spec.constrictions;
         const fs::path& out_dir = spec.output_directory;
         const int seeds = spec.seeds;
-        prepare_output_file(args->report, "--report");
         // What is done already: all of it read back with --resume, nothing otherwise.
         DesignProgress progress;
         if (args->resume) {

@@ -14,6 +14,7 @@
 #include "seed_tally.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
+#include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
@@ -46,7 +47,17 @@ double snapshot_interval(const std::string& text, const JamScene& scene) {
             throw SceneError("--snapshot-every", std::string(e.what()) + "; give a time such as \"0.1 ms\"");
         }
     }
-    if (!(t > 0)) throw SceneError("--snapshot-every", "must be a positive time, such as \"0.1 ms\"");
+    if (!(t > 0) || !std::isfinite(t)) throw SceneError("--snapshot-every", "must be a positive time, such as \"0.1 ms\"");
+    // A frame of a large valve is tens of MB: more than a few thousand is a slip of units.
+    const double run = scene.protocol.flow_time + scene.protocol.max_time;
+    constexpr double kMostFrames = 2000;
+    if (run / t > kMostFrames)
+        throw SceneError("--snapshot-every", "would write more than " + std::to_string(static_cast<int>(kMostFrames)) +
+                                                 " snapshots over the run's " + std::to_string(run * 1e3) +
+                                                 " ms; give an interval of at least " + std::to_string(run / kMostFrames * 1e6) + " us");
+    if (t > run)
+        throw SceneError("--snapshot-every", "is longer than the run (" + std::to_string(run * 1e3) +
+                                                 " ms of flow and field), so only the first frame would be written; give a shorter interval");
     return t;
 }
 }  // namespace
@@ -71,7 +82,11 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         // A resumed run finishes the protocol it started: another tier or seed count would not.
         if (!args->resume.empty() && (fidelity->count() > 0 || seeds_option->count() > 0))
             throw SceneError("--resume", "the tier and the number of seeds come from the checkpoint; drop --fidelity and --seeds");
-        prepare_output_file(args->report, "--report");
+        prepare_output_file(args->report, "--report", {args->scene, args->resume});
+        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a large valve packs
+        // for a minute) is answered at the first step, with a checkpoint, instead of killing it.
+        install_interrupt_handler();
+        if (!args->snapshots.empty()) prepare_output_directory(args->snapshots, "--snapshots");
         // The record of the seeds: written into every checkpoint, so a resumed command knows the
         // scene, which seed was running and what the seeds before it gave.
         nlohmann::json campaign;
@@ -93,6 +108,12 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         }
         const JamScene scene =
             read_jam_scene(campaign["scene"], campaign["tier"].get<std::string>(), campaign["base_directory"].get<std::string>());
+        // The prescribed flow does not use a supply pressure (the design's open-flow estimate
+        // does, so this is the jam command's check): given, it would be echoed as if it were.
+        const nlohmann::json& fluid_in = campaign["scene"].value("fluid", nlohmann::json::object());
+        if (args->resume.empty() && !scene.flow.pressure_driven && fluid_in.is_object() && fluid_in.contains("supply_pressure"))
+            throw SceneError("/fluid/supply_pressure", "drives the pressure-driven flows only, and fluid/flow is \"prescribed\": "
+                                                       "give fluid/flow \"pressure\" or \"coupled\", or drop it");
         const int seeds = campaign["seeds"].get<int>();
         if (args->snapshots.empty() && !args->snapshot_every.empty())
             throw SceneError("--snapshot-every", "sets the interval of --snapshots DIR: give that too, or drop it");
@@ -152,6 +173,11 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         for (double t : arrest_times) spread += (t - mean) * (t - mean) / std::max<std::size_t>(1, arrest_times.size() - 1);
         report["inputs_jam"] = scene.resolved;
         report["seeds"] = runs;
+        // The report is seed 1's with the seeds' tally: the other seeds' warnings (a sparse window
+        // in seed 3, say) would otherwise reach stderr only, and with --quiet nowhere.
+        for (std::size_t k = 1; k < runs.size(); ++k)
+            for (const auto& w : runs[k].value("warnings", nlohmann::json::array()))
+                report["warnings"].push_back("seed " + std::to_string(runs[k]["seed"].get<long long>()) + ": " + w.get<std::string>());
         report["results"].update(seed_probabilities(tally));
         report["results"]["time_to_arrest_mean_s"] = arrest_times.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean);
         report["results"]["time_to_arrest_std_s"] =

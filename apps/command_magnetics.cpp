@@ -87,8 +87,8 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
     cmd->callback([args, field_map, &exit_status] {
         const auto start = std::chrono::steady_clock::now();
         // A solve can take minutes: what it would write is checked before it.
-        prepare_output_file(args->report, "--report");
-        if (field_map->count() > 0) prepare_output_file(args->field_map, "--field-map");  // "" is refused, not "none"
+        prepare_output_file(args->report, "--report", {args->scene});
+        if (field_map->count() > 0) prepare_output_file(args->field_map, "--field-map", {args->scene, args->report});  // "" is refused, not "none"
         MagneticsScene scene = read_magnetics_scene(read_json_file(args->scene), args->fidelity);
         const bool fem = scene.request.field_model != FieldModel::circuit;
         if (!args->field_map.empty() && !fem)

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
+#include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
@@ -43,7 +44,10 @@ void add_run_command(CLI::App& app, int& exit_status) {
         // The checkpoint's scene holds the settings its tier resolved to; another tier would only relabel the report.
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed run keeps the tier it was started with; drop --fidelity");
-        prepare_output_file(args->report, "--report");
+        prepare_output_file(args->report, "--report", {args->scene, args->resume});
+        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a large valve packs
+        // for a minute) is answered at the first step, with a checkpoint, instead of killing it.
+        install_interrupt_handler();
         BuildOptions build;
         build.threads = args->threads;
         build.fidelity = args->fidelity;

@@ -8,6 +8,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/calibration.hpp"
@@ -87,7 +88,10 @@ void add_shear_command(CLI::App& app, int& exit_status) {
         // A resumed study finishes at the tier it started with.
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed study keeps the tier it was started with; drop --fidelity");
-        prepare_output_file(args->report, "--report");
+        prepare_output_file(args->report, "--report", {args->scene, args->resume, args->calibrate});
+        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a large valve packs
+        // for a minute) is answered at the first step, with a checkpoint, instead of killing it.
+        install_interrupt_handler();
         ShearOptions options;
         options.threads = args->threads;
         options.progress = !args->quiet;

@@ -1,5 +1,9 @@
 #include "design_scenes.hpp"
 
+#include <cmath>
+#include <limits>
+#include <tuple>
+
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 
@@ -25,6 +29,12 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
                 throw SceneError(path, e.what());
             }
         }
+        // Each constriction is run under output_directory/<its name>: a repeat would overwrite
+        // the first, and two names of one diameter would run it twice.
+        for (std::size_t j = 0; j < out.size(); ++j)
+            if (out[j].first == text || std::abs(out[j].second - d) <= 1e-12 * d)
+                throw SceneError(path, "names the same constriction as /constrictions/" + std::to_string(j) + " (\"" +
+                                           out[j].first + "\"); drop one");
         out.push_back({text, d});
     }
     return out;
@@ -113,9 +123,29 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             const auto& [name, diameter] = spec.constrictions[i];
             const fs::path dir = spec.output_directory / name;
             const auto ms = design_magnetics_scene(spec, dir, diameter, magnetics_tier);
-            design_jam_scene(spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
+            const JamScene js =
+                design_jam_scene(spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
+            // The field map covers the magnetics valve's tube; the jam run models its own length of
+            // it, which must lie inside (found after the solve, this stopped the design there).
+            const double up = ms.resolved["valve"]["upstream_length"].get<double>();
+            const double down = ms.resolved["valve"]["downstream_length"].get<double>();
+            for (const auto& [key, jam_length, field_length] :
+                 {std::tuple{"upstream_length", js.valve.upstream_length, up}, {"downstream_length", js.valve.downstream_length, down}})
+                if (jam_length > field_length * (1 + 1e-9))
+                    throw SceneError(std::string("/jam/model/") + key,
+                                     "the jam run would model " + std::to_string(jam_length * 1e3) + " mm of tube, past the " +
+                                         std::to_string(field_length * 1e3) + " mm the field is solved over (/magnetics/valve/" + key +
+                                         "): shorten this, or lengthen that");
+            const long long seed = js.engine_scene["seed"].get<long long>();
+            if (seed > std::numeric_limits<long long>::max() - (spec.seeds - 1))
+                throw SceneError("/jam/seed", "seed + seeds - 1 overflows a 64-bit seed: give a smaller seed");
         } catch (const SceneError& e) {
-            if (e.path().ends_with("/valve/constriction_diameter")) throw e.at("/constrictions/" + std::to_string(i));
+            const std::string entry = "/constrictions/" + std::to_string(i);
+            if (e.path().ends_with("/valve/constriction_diameter")) throw e.at(entry);
+            // A block's key that fails for this constriction only (a mesh too coarse for a narrow
+            // throat, say): the message says which.
+            if (e.path().starts_with("/magnetics") || e.path().starts_with("/jam"))
+                throw SceneError(e.path(), "with " + entry + " (\"" + spec.constrictions[i].first + "\"): " + e.message());
             throw;
         }
 }

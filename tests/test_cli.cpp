@@ -632,4 +632,27 @@ TEST_CASE("cli: a raft over the whole periodic box takes every grain, also those
     CHECK(rep["results"]["rafts"][0]["grains"] == rep["results"]["grains"]);
 }
 
+// Benchmarks take their options as a command does its scene: a value with no meaning (a grain
+// of permeability 1 tabled NaN ratios with exit 0), too few grains, and an output path that
+// cannot be written (found after the whole benchmark) are refused at once, naming the option.
+TEST_CASE("cli: bench options that cannot give a result are refused before the benchmark") {
+    TempDir dir;
+    write_text(dir.file("a_file"), "x");
+    for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
+             {"bench sphere-pair --permeability 1", "--permeability"},
+             {"bench sphere-pair --permeability nan", "--permeability"},
+             {"bench sphere-pair --gap 1e-300", "--gap"},
+             {"bench sphere-pair --gap 1e308", "--gap"},
+             {"bench contact --grains 20 --steps 1 --json " + quote(dir.file("")), "--json"},
+             {"bench contact --grains 20 --steps 1 --write-data " + quote(dir.file("a_file") + "/d.data"), "--write-data"},
+             {"bench flow --json " + quote(dir.file("a_file") + "/f.json"), "--json"},
+             {"bench magnetic-accuracy --grains 16", "--grains"}}) {
+        CAPTURE(args);
+        const Result r = mrjam(dir, args);
+        CAPTURE(r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find(option) != std::string::npos);
+    }
+}
+
 }  // TEST_SUITE

@@ -2,6 +2,8 @@
 // command's refusals and report.
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include "jam/axial_resistance.hpp"
 #include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
@@ -316,6 +318,11 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}}, "/grains/psd");
     refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
     refused("absurd_modulus", {{"material", {{"youngs_modulus", 1e-300}}}}, "/material/youngs_modulus");
+    // An empty class still set the slab and the cells from its diameter.
+    refused("empty_class", {{"grains", {{"diameters", {"44 um", "0.5 mm"}}, {"mass_fractions", {1, 0}}}}},
+            "/grains/mass_fractions/1");
+    // The prescribed flow takes no supply pressure: it was echoed as if used.
+    refused("unused_pressure", {{"fluid", {{"supply_pressure", "400 kPa"}}}}, "/fluid/supply_pressure");
     refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
     refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
     refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");
@@ -420,6 +427,15 @@ TEST_CASE("every mode: a report path that cannot be written is refused before an
             CHECK(r.exit_code == 2);
             CHECK(r.err.find("--report") != std::string::npos);
         }
+    // A report written over the command's own scene would lose it.
+    write_text(dir.file("self.json"), json{{"protocol", {{"max_time", "1 ms"}}}}.dump());
+    for (const std::string mode : {"jam", "design", "run", "shear", "magnetics"}) {
+        CAPTURE(mode);
+        const Result r = mrjam_test::mrjam(dir, mode + " " + quote(dir.file("self.json")) + " --report " + quote(dir.file("./self.json")));
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("--report") != std::string::npos);
+        CHECK(slurp(dir.file("self.json")).find("max_time") != std::string::npos);
+    }
     // A number no double holds is bad input, named by its file.
     write_text(dir.file("huge.json"), R"({"protocol": {"max_time": 1e999}})");
     const Result huge = mrjam_test::mrjam(dir, "jam " + quote(dir.file("huge.json")) + " --report " + quote(dir.file("h.json")));
@@ -836,6 +852,11 @@ TEST_CASE("design: magnetics -> field map -> jam predictor -> report") {
              {{{"jam", {{"protocol", {{"arrest_fraction", 0}}}}}}, "/jam/protocol/arrest_fraction"},
              {{{"magnetics", {{"bogus", 1}}}}, "/magnetics/bogus"},
              {{{"constrictions", {"30x", "3 mm"}}}, "/constrictions/1"},
+             // Each constriction runs under its own name: a repeat overwrote the first's files.
+             {{{"constrictions", {"30x", "30x"}}}, "/constrictions/1"},
+             // Found before the field solve (they stopped the design after it, or wrapped a seed).
+             {{{"jam", {{"model", {{"upstream_length", "10 mm"}}}}}}, "/jam/model/upstream_length"},
+             {{{"jam", {{"seed", std::numeric_limits<long long>::max()}}}, {"seeds", 2}}, "/jam/seed"},
              {{{"jam", 5}}, "/jam"},
              {{{"magnetics", {{"valve", 5}}}}, "/magnetics/valve"},
              {{{"output_directory", ""}}, "/output_directory"}}) {

@@ -97,6 +97,12 @@ TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as 
     CHECK(a["results"]["closed_flow_share"].get<double>() > 0.0);
     CHECK(a["seeds"][0]["closed_flow_share"] == a["results"]["closed_flow_share"]);
     CHECK(a["seeds"][0]["flux_share_last_window"] == a["results"]["flux_share_last_window"]);
+    // The report is seed 1's: seed 2's warnings (here its own sparse arrest window) join it,
+    // named by their seed; they used to reach stderr only.
+    REQUIRE_FALSE(a["seeds"][1]["warnings"].empty());
+    for (const auto& w : a["seeds"][1]["warnings"])
+        CHECK(a["warnings"].dump().find(json("seed " + std::to_string(a["seeds"][1]["seed"].get<long long>()) + ": " +
+                                             w.get<std::string>()).dump()) != std::string::npos);
     const long total = steps[0] + steps[1] + steps[2];
 
     // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
@@ -472,6 +478,18 @@ TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with th
     const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0), "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
     CHECK(bad.exit_code == 2);
     CHECK(bad.err.find("--snapshot-every") != std::string::npos);
+    // An interval below the time's resolution hung the run (signals too): refused, as are more
+    // than 2000 frames, a frame interval past the run, and a snapshot directory that is a file.
+    for (const std::string every : {"1e-300", "1e-12", "1"}) {
+        CAPTURE(every);
+        const Result tiny = jam(dir, "tiny", tiny_scene(dir.file("out_tiny"), 0), "--snapshots " + quote(dir.file("v3")) + " --snapshot-every " + every);
+        CHECK(tiny.exit_code == 2);
+        CHECK(tiny.err.find("--snapshot-every") != std::string::npos);
+    }
+    write_text(dir.file("a_file"), "x");
+    const Result onto_file = jam(dir, "onto_file", tiny_scene(dir.file("out_file"), 0), "--snapshots " + quote(dir.file("a_file")));
+    CHECK(onto_file.exit_code == 2);
+    CHECK(onto_file.err.find("--snapshots") != std::string::npos);
     // An interval without snapshots to space would be ignored: refused too.
     const Result alone = jam(dir, "alone", tiny_scene(dir.file("out_alone"), 0), "--snapshot-every 2e-5");
     CHECK(alone.exit_code == 2);

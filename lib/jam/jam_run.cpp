@@ -91,11 +91,12 @@ std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
            std::to_string(kFewestGrainsPerWindow / base_rate * 1e3) + " ms";
 }
 
-// A coupled flow's jet cut short by a tube length the scene fixed (lib/jam/jam_scene.cpp keeps
-// it): the grains pile up where the stream slows, which blew up the 10 um mix (docs/jam.md).
+// A jet (the coupled flow's, or the prescribed converging profile's) cut short by a tube length
+// the scene fixed (lib/jam/jam_scene.cpp keeps it): the grains pile up where the stream slows,
+// which blew up the 10 um mix, and a 44 um 20x case with a 24 um jet (docs/jam.md).
 std::string short_jet_warning(const JamScene& js) {
-    if (!js.flow.coupled || js.valve.is_slot() || js.flow.jet_length >= js.valve.taper_length) return {};
-    return "the coupled flow's jet re-opens over " + std::to_string(js.flow.jet_length * 1e3) +
+    if (js.valve.is_slot() || !(js.flow.jet_length > 0) || js.flow.jet_length >= js.valve.taper_length) return {};
+    return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " + std::to_string(js.flow.jet_length * 1e3) +
            " mm, shorter than the taper (" + std::to_string(js.valve.taper_length * 1e3) +
            " mm), because the scene fixes the tube's length: grains can pile up past the orifice; give "
            "model/downstream_length at least " +
@@ -117,8 +118,12 @@ void check_observation_interval(const JamProtocol& p, double dt) {
                          "observes the flux every " + std::to_string(interval * 1e6) + " us (step " +
                              std::to_string(dt * 1e9) + " ns), fewer than 4 times per arrest window or half flow time (" +
                              std::to_string(shortest * 1e6) + " us): give at most " + std::to_string(most));
-    throw SceneError("/protocol/arrest_window", "is shorter than 4 steps of " + std::to_string(dt * 1e9) +
-                                                    " ns (or half of protocol/flow_time is): lengthen it");
+    const bool flow_is_shorter = 0.5 * p.flow_time < p.arrest_window;
+    throw SceneError(flow_is_shorter ? "/protocol/flow_time" : "/protocol/arrest_window",
+                     std::string(flow_is_shorter ? "is shorter than 8 steps of " : "is shorter than 4 steps of ") +
+                         std::to_string(dt * 1e9) + " ns" +
+                         (flow_is_shorter ? " (its second half is the no-field reference, observed at least 4 times)" : "") +
+                         ": lengthen it");
 }
 
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
@@ -299,7 +304,8 @@ nlohmann::json jam_seed_record(const JamOutcome& outcome) {
             {"flux_share_last_window", r.value("flux_share_last_window", nlohmann::json(nullptr))},
             {"stops_flow", outcome.stops_flow},
             {"hold", r.value("hold", nlohmann::json(nullptr))},
-            {"closed_flow_share", r.value("closed_flow_share", nlohmann::json(nullptr))}};
+            {"closed_flow_share", r.value("closed_flow_share", nlohmann::json(nullptr))},
+            {"warnings", outcome.report.value("warnings", nlohmann::json::array())}};
 }
 
 JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& options) {

@@ -32,7 +32,7 @@ struct JamOutcome {
 JamOutcome run_jam(const JamScene& scene, long long seed, const JamRunOptions& options);
 
 // One seed's line in a campaign (`mrjam jam --seeds`, `mrjam design`): outcome, time to arrest,
-// whether it stopped the flow, the hold and the closed valve's leak.
+// whether it stopped the flow, the hold, the closed valve's leak and the seed's warnings.
 nlohmann::json jam_seed_record(const JamOutcome& outcome);
 
 }  // namespace mrjam

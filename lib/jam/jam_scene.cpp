@@ -141,6 +141,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                         "needs one entry per diameter (" + std::to_string(table.diameters.size()) + ")");
         if (std::accumulate(table.mass.begin(), table.mass.end(), 0.0) <= 0)
             grains.fail("mass_fractions", "must not all be zero");
+        // The largest class sets the slab, the cells and the skin: an empty one would set them
+        // for grains that are never drawn.
+        for (std::size_t k = 0; k < table.mass.size(); ++k)
+            if (table.mass[k] == 0)
+                throw SceneError(grains.path() + "/mass_fractions/" + std::to_string(k),
+                                 "is 0: a class without mass still sets the model's scales (the largest diameter); drop it and its diameter");
     } else {
         table = preset_table(grains.choice("psd", {"44um", "10um"}, "44um"));
     }

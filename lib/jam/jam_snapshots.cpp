@@ -1,5 +1,6 @@
 #include "jam/jam_snapshots.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include "io/snapshot.hpp"
@@ -17,7 +18,10 @@ void JamSnapshots::observe(const System& s) {
     write(s, "seed" + std::to_string(seed_) + "_step" + std::to_string(s.step) + ".vtk");
     // The next due time is a multiple of the interval, so observations that do not fall on one
     // do not make the series drift.
-    while (next_time_ <= s.time) next_time_ += every_;
+    next_time_ += every_ * (std::floor((s.time - next_time_) / every_) + 1);
+    // An interval below the time's resolution would not move it on (it hung a loop here): the
+    // command refuses such intervals, and this bounds the harm if one gets through.
+    if (!(next_time_ > s.time)) next_time_ = std::nextafter(s.time, HUGE_VAL);
 }
 
 void JamSnapshots::write_tagged(const System& s, const std::string& tag) {
