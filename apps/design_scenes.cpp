@@ -145,7 +145,7 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             // A block's key that fails for this constriction only (a mesh too coarse for a narrow
             // throat, say): the message says which.
             if (e.path().starts_with("/magnetics") || e.path().starts_with("/jam"))
-                throw SceneError(e.path(), "with " + entry + " (\"" + spec.constrictions[i].first + "\"): " + e.message());
+                throw SceneError(e.path(), e.message() + " (with " + entry + ", \"" + spec.constrictions[i].first + "\")");
             throw;
         }
 }
