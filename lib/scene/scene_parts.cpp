@@ -1,8 +1,7 @@
 #include "scene/scene_parts.hpp"
 
-#include <sstream>
-
 #include <cmath>
+#include <sstream>
 
 #include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
