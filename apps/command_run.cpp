@@ -45,8 +45,8 @@ void add_run_command(CLI::App& app, int& exit_status) {
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed run keeps the tier it was started with; drop --fidelity");
         prepare_output_file(args->report, "--report", {args->scene, args->resume});
-        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a large valve packs
-        // for a minute) is answered at the first step, with a checkpoint, instead of killing it.
+        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a dense scene packs its grains
+        // first) is answered at the first step, with a checkpoint, instead of killing it.
         install_interrupt_handler();
         BuildOptions build;
         build.threads = args->threads;

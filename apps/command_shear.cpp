@@ -89,8 +89,8 @@ void add_shear_command(CLI::App& app, int& exit_status) {
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed study keeps the tier it was started with; drop --fidelity");
         prepare_output_file(args->report, "--report", {args->scene, args->resume, args->calibrate});
-        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a large valve packs
-        // for a minute) is answered at the first step, with a checkpoint, instead of killing it.
+        // From here on Ctrl-C or SIGTERM asks for a stop: one during the setup (a cell packs its grains
+        // first) is answered at the first step, with a checkpoint, instead of killing it.
         install_interrupt_handler();
         ShearOptions options;
         options.threads = args->threads;
