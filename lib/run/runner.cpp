@@ -240,12 +240,15 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                     const double elapsed = seconds_since(t0);
                     const double rate = steps_advanced / std::max(elapsed, 1e-9);
                     const double grain_rate = grain_steps / std::max(elapsed, 1e-9);
+                    // Where a stage can end on a criterion (a jam's arrest or steady flow), the
+                    // time left to its last step is a bound, not an estimate: say so.
                     std::fprintf(
                         stderr,
-                        "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%%), t = %.4g s, %.3g grain-steps/s, ETA %.0f s\n",
+                        "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%% of the run), t = %.4g s, %.3g grain-steps/s, "
+                        "ETA %s%.0f s\n",
                         options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i, st.steps,
                         100.0 * done_before / std::max(total, 1L), s.time, grain_rate,
-                        (total - done_before) / std::max(rate, 1e-9));
+                        options.stage_finished ? "at most " : "", (total - done_before) / std::max(rate, 1e-9));
                     last_progress = Clock::now();
                 }
                 if (interrupt_requested()) break;
