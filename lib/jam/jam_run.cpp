@@ -348,6 +348,8 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     check_observation_interval(p, s.dt);
     if (const std::string w = short_jet_warning(js); options.progress && !w.empty())
         std::cerr << "[jam] warning: " << w << "\n";
+    if (options.progress)
+        std::cerr << "[jam] " << s.particles.size() << " grains, time step " << s.dt * 1e9 << " ns\n";
 
     // The magnet is switched on after the no-field flow and off when the flow has arrested.
     auto field = std::make_shared<SwitchedField>(s.magnetic.field, p.flow_time);
