@@ -190,12 +190,13 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     std::cerr << "[design] " << name << ": seed " << seed << " (" << k + 1 << "/" << seeds << ")\n";
                 const JamOutcome o = run_jam(js, seed, options);
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
-                const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(k) + ".json");
+                // Named by the seed itself, as the design report's runs name it.
+                const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(seed) + ".json");
                 json jam_report = o.report;
                 jam_report["inputs_jam"] = js.resolved;
                 write_json_file(seed_report.string(), jam_report);
                 if (o.exit_status == kExitInterrupted)
-                    return interrupted({{"constriction", name}, {"stage", "jam run"}, {"seed", k},
+                    return interrupted({{"constriction", name}, {"stage", "jam run"}, {"seed", seed}, {"seed_index", k},
                                         {"jam_report", seed_report.string()}, {"checkpoint", checkpoint.string()}});
                 if (o.exit_status != 0) {
                     exit_status = o.exit_status;
@@ -203,7 +204,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
                     std::cerr << "[design] the jam run for " << name << " stopped; its partial report is " << seed_report << "\n";
                     if (o.report.contains("error")) std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
                     write_report(o.report.value("status", std::string("failed")),
-                                 {{"constriction", name}, {"seed", k}, {"jam_report", seed_report.string()},
+                                 {{"constriction", name}, {"seed", seed}, {"seed_index", k}, {"jam_report", seed_report.string()},
                                   {"exit_status", o.exit_status}});
                     std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
