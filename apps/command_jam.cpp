@@ -12,6 +12,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "seed_tally.hpp"
+#include "core/format.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "run/interrupt.hpp"
@@ -53,10 +54,10 @@ double snapshot_interval(const std::string& text, const JamScene& scene) {
     constexpr double kMostFrames = 2000;
     if (run / t > kMostFrames)
         throw SceneError("--snapshot-every", "would write more than " + std::to_string(static_cast<int>(kMostFrames)) +
-                                                 " snapshots over the run's " + std::to_string(run * 1e3) +
-                                                 " ms; give an interval of at least " + std::to_string(run / kMostFrames * 1e6) + " us");
+                                                 " snapshots over the run's " + format_number(run * 1e3) +
+                                                 " ms; give an interval of at least " + format_number(run / kMostFrames * 1e6) + " us");
     if (t > run)
-        throw SceneError("--snapshot-every", "is longer than the run (" + std::to_string(run * 1e3) +
+        throw SceneError("--snapshot-every", "is longer than the run (" + format_number(run * 1e3) +
                                                  " ms of flow and field), so only the first frame would be written; give a shorter interval");
     return t;
 }

@@ -4,6 +4,7 @@
 #include <limits>
 #include <tuple>
 
+#include "core/format.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 
@@ -133,8 +134,8 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
                  {std::tuple{"upstream_length", js.valve.upstream_length, up}, {"downstream_length", js.valve.downstream_length, down}})
                 if (jam_length > field_length * (1 + 1e-9))
                     throw SceneError(std::string("/jam/model/") + key,
-                                     "the jam run would model " + std::to_string(jam_length * 1e3) + " mm of tube, past the " +
-                                         std::to_string(field_length * 1e3) + " mm the field is solved over (/magnetics/valve/" + key +
+                                     "the jam run would model " + format_number(jam_length * 1e3) + " mm of tube, past the " +
+                                         format_number(field_length * 1e3) + " mm the field is solved over (/magnetics/valve/" + key +
                                          "): shorten this, or lengthen that");
             const long long seed = js.engine_scene["seed"].get<long long>();
             if (seed > std::numeric_limits<long long>::max() - (spec.seeds - 1))

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/format.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "magnetics/magnetic_circuit.hpp"
 
@@ -89,8 +90,8 @@ FieldGrid fluid_map(const EpmModel& m, int dim, double spacing, const ElementSam
             const double shrink = 1.0 - static_cast<double>(step) / kRaySteps;
             b = fluid.sample({x.x * shrink, x.y * shrink, x.z});
         }
-        if (!b) throw std::runtime_error("field map node (" + std::to_string(x.x) + ", " + std::to_string(x.y) + ", " +
-                                         std::to_string(x.z) + ") m: no fluid element on its ray to the axis");
+        if (!b) throw std::runtime_error("field map node (" + format_number(x.x * 1e3) + ", " + format_number(x.y * 1e3) + ", " +
+                                         format_number(x.z * 1e3) + ") mm: no fluid element on its ray to the axis");
         value = *b;
     });
     return f;

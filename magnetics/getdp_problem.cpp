@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/format.hpp"
 #include "magnetics/child_process.hpp"
 
 namespace mrjam::magnetics {
@@ -294,8 +295,8 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
     const bool saturating = std::any_of(p.regions.begin(), p.regions.end(), [](const auto& r) { return r.saturating; });
     if (saturating && !(s.nonlinear_residual <= p.nonlinear_tolerance))
         throw SolverError("the nonlinear (saturating iron) iteration did not converge: residual " +
-                          std::to_string(s.nonlinear_residual) + " after " + std::to_string(s.nonlinear_steps) +
-                          " steps (tolerance " + std::to_string(p.nonlinear_tolerance) + ", " + std::to_string(s.unknowns) +
+                          format_number(s.nonlinear_residual) + " after " + std::to_string(s.nonlinear_steps) +
+                          " steps (tolerance " + format_number(p.nonlinear_tolerance) + ", " + std::to_string(s.unknowns) +
                           " unknowns); the iron may be deep in saturation: check the remanence and the saturation. Log: " +
                           log.string());
 

@@ -162,7 +162,7 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
     const Vec3 extent = layout.device_hi - layout.device_lo;
     if (mesh.air_box < 2.0 * std::max({extent.x, extent.y, extent.z}))
         throw SceneError("/mesh/air_box", "must be at least twice the device's largest extent (" +
-                                              std::to_string(2e3 * std::max({extent.x, extent.y, extent.z})) +
+                                              format_number(2e3 * std::max({extent.x, extent.y, extent.z})) +
                                               " mm) so the phi = 0 boundary does not squeeze the field");
     if (mesh.fluid_size > 0.5 * m.valve.constriction_diameter)
         throw SceneError("/mesh/fluid_size", "is coarser than half the throat diameter; the fluid would not be resolved");

@@ -294,7 +294,9 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     auto refused = [&](const std::string& label, const json& scene, const std::string& path) {
         expect_mode_refused(dir, "jam", label, scene, path);
     };
-    refused("narrow_throat", {{"valve", {{"constriction_diameter", "40 um"}}}}, "/valve/constriction_diameter");
+    // Messages show numbers as a user writes them ("44 um"), not std::to_string's "44.000000".
+    refused("narrow_throat", {{"valve", {{"constriction_diameter", "40 um"}}}},
+            "/valve/constriction_diameter: the throat is not wider than the largest grain (44 um)");
     refused("zero_threshold", {{"protocol", {{"arrest_fraction", 0}}}}, "/protocol/arrest_fraction");
     refused("dense", {{"grains", {{"volume_fraction", 0.7}}}}, "/grains/volume_fraction");
     // Below random close packing but more than the valve's walls let the packing reach: refused by
@@ -310,7 +312,9 @@ TEST_CASE("jam: impossible or meaningless scenes are refused before the run") {
     const std::string map = dir.file("small.map");
     write_text(map, "mrjam-fieldmap 1\n2 2 2\n-1e-4 -1e-4 -1e-4\n2e-4 2e-4 2e-4\n" + std::string(8 * 1, ' ') +
                         "0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n");
-    refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}}, "/field/file");
+    // The valve in millimetres: the standard tier's slab (6 x 44 um), the 2.6 mm bore, its tube.
+    refused("small_map", {{"field", {{"type", "map"}, {"file", map}}}},
+            "/field/file: the field map does not cover the modelled valve (x -0.132...0.132, y +-1.3, z -1.5...0.75 mm)");
     // A header that promises 4096^3 nodes (1.6 TB of values) and ends: refused as it is read, not allocated.
     const std::string huge = dir.file("huge.map");
     write_text(huge, "mrjam-fieldmap 1\n4096 4096 4096\n-1e-4 -1e-3 -1e-3\n1e-6 1e-6 1e-6\n0 0.2 0\n");

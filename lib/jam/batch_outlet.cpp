@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "core/format.hpp"
 #include "grain_removal.hpp"
 #include "scene/scene_node.hpp"
 
@@ -15,7 +16,7 @@ BatchOutlet::BatchOutlet(const System& s, double z_end, double z_throat_exit, do
     z_ = z_end - reach - largest_diameter;
     if (z_ < z_throat_exit + largest_diameter)
         throw SceneError("/model/downstream_length",
-                         "a batch's outlet needs " + std::to_string((reach + 2 * largest_diameter) * 1e3) +
+                         "a batch's outlet needs " + format_number((reach + 2 * largest_diameter) * 1e3) +
                              " mm of tube past the throat's exit (a grain's reach across the periodic seam and room "
                              "to leave); lengthen model/downstream_length or use supply \"periodic\"");
 }

@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "fluid/valve_flow.hpp"
 #include "integrator.hpp"
 #include "jam/axial_resistance.hpp"
@@ -86,9 +87,9 @@ constexpr double kFewestGrainsPerWindow = 20;
 std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
     const double per_window = base_rate * p.arrest_window;
     if (!(base_rate > 0) || per_window >= kFewestGrainsPerWindow) return {};
-    return "the no-field flux passes only " + std::to_string(per_window) +
+    return "the no-field flux passes only " + format_number(per_window) +
            " grains per protocol/arrest_window, so an arrest can be counting noise: lengthen the window to at least " +
-           std::to_string(kFewestGrainsPerWindow / base_rate * 1e3) + " ms";
+           format_number(kFewestGrainsPerWindow / base_rate * 1e3) + " ms";
 }
 
 // A jet (the coupled flow's, or the prescribed converging profile's) cut short by a tube length
@@ -96,11 +97,11 @@ std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
 // which blew up the 10 um mix, and a 44 um 20x case with a 24 um jet (docs/jam.md).
 std::string short_jet_warning(const JamScene& js) {
     if (js.valve.is_slot() || !(js.flow.jet_length > 0) || js.flow.jet_length >= js.valve.taper_length) return {};
-    return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " + std::to_string(js.flow.jet_length * 1e3) +
-           " mm, shorter than the taper (" + std::to_string(js.valve.taper_length * 1e3) +
+    return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " + format_number(js.flow.jet_length * 1e3) +
+           " mm, shorter than the taper (" + format_number(js.valve.taper_length * 1e3) +
            " mm), because the scene fixes the tube's length: grains can pile up past the orifice; give "
            "model/downstream_length at least " +
-           std::to_string((js.valve.throat_end_z() + js.valve.taper_length + 2.0 * js.flow.cell_length) * 1e3) +
+           format_number((js.valve.throat_end_z() + js.valve.taper_length + 2.0 * js.flow.cell_length) * 1e3) +
            " mm, or drop it";
 }
 
@@ -115,13 +116,13 @@ void check_observation_interval(const JamProtocol& p, double dt) {
     const long most = static_cast<long>(std::floor(shortest / (kObservationsPerWindow * dt)));
     if (most >= 1)
         throw SceneError("/protocol/observe_every_steps",
-                         "observes the flux every " + std::to_string(interval * 1e6) + " us (step " +
-                             std::to_string(dt * 1e9) + " ns), fewer than 4 times per arrest window or half flow time (" +
-                             std::to_string(shortest * 1e6) + " us): give at most " + std::to_string(most));
+                         "observes the flux every " + format_number(interval * 1e6) + " us (step " +
+                             format_number(dt * 1e9) + " ns), fewer than 4 times per arrest window or half flow time (" +
+                             format_number(shortest * 1e6) + " us): give at most " + format_number(most));
     const bool flow_is_shorter = 0.5 * p.flow_time < p.arrest_window;
     throw SceneError(flow_is_shorter ? "/protocol/flow_time" : "/protocol/arrest_window",
                      std::string(flow_is_shorter ? "is shorter than 8 steps of " : "is shorter than 4 steps of ") +
-                         std::to_string(dt * 1e9) + " ns" +
+                         format_number(dt * 1e9) + " ns" +
                          (flow_is_shorter ? " (its second half is the no-field reference, observed at least 4 times)" : "") +
                          ": lengthen it");
 }

@@ -156,7 +156,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     out.feed_fraction = fraction;
     if (out.largest_diameter >= v.constriction_diameter)
         throw SceneError("/valve/constriction_diameter", "the throat is not wider than the largest grain (" +
-                                                             std::to_string(out.largest_diameter * 1e6) +
+                                                             format_number(out.largest_diameter * 1e6) +
                                                              " um); widen it or use finer grains");
     // The slab (0: the full bore) must hold the largest grain and cut a passage through the throat.
     if (slab_diameters > 0 && slab_diameters < 1)
@@ -164,12 +164,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                          "must be at least 1 (the largest grain must fit between the faces), or 0 for the full bore");
     if (!v.is_slot() && slab_diameters * out.largest_diameter >= v.constriction_diameter)
         throw SceneError("/model/slab_thickness_diameters",
-                         "a slab " + std::to_string(slab_diameters) + " largest grains thick is not narrower than the throat (" +
-                             std::to_string(v.constriction_diameter / out.largest_diameter) +
+                         "a slab " + format_number(slab_diameters) + " largest grains thick is not narrower than the throat (" +
+                             format_number(v.constriction_diameter / out.largest_diameter) +
                              " of them): give fewer, or 0 for the full bore");
     if (v.is_slot() && out.largest_diameter >= v.slot_width)
         throw SceneError("/valve/slot_width", "the slot is not wider than the largest grain (" +
-                                                  std::to_string(out.largest_diameter * 1e6) +
+                                                  format_number(out.largest_diameter * 1e6) +
                                                   " um); widen it or use finer grains");
 
     // Material (the source's contact properties; section 3.4.4 prints only E and the friction:
@@ -215,7 +215,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         fluid.quantity("resistance_cell_length", units::length, 2.0 * out.largest_diameter, Bounds::positive());
     if (out.flow.cell_length < out.largest_diameter)
         fluid.fail("resistance_cell_length", "must be at least the largest grain's diameter (" +
-                                                 std::to_string(out.largest_diameter * 1e6) +
+                                                 format_number(out.largest_diameter * 1e6) +
                                                  " um): a cell's volume fraction is counted from grain centres");
     // The converging profile's jet must re-open before the periodic seam, a couple of cells
     // short of it so that the seam joins the bore's profile to itself (fluid/valve_flow.hpp).
@@ -244,7 +244,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             if (jet_length > room)
                 fluid.fail("jet_length",
                            "the stream must re-open two resistance cells before the modelled tube ends: at most " +
-                               std::to_string(room * 1e3) + " mm here; shorten it or lengthen model/downstream_length");
+                               format_number(room * 1e3) + " mm here; shorten it or lengthen model/downstream_length");
         } else {
             if (!(room > 0))
                 fluid.fail("profile",
@@ -277,7 +277,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         const double clear =
             clear_stretch_pressure(v, -v.upstream_length, v.downstream_length, jet_length, viscosity, q0);
         if (out.flow.supply_pressure <= clear)
-            fluid.fail("supply_pressure", "must exceed the " + std::to_string(clear) +
+            fluid.fail("supply_pressure", "must exceed the " + format_number(clear) +
                                               " Pa the clear fluid needs through the modelled stretch at the bore "
                                               "flow; raise it or lower bore_speed");
     } else if (fluid.has("rings")) {
@@ -321,10 +321,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         if (lo.x > -hx + tol || hi.x < hx - tol || lo.y > -rb + tol || hi.y < rb - tol ||
             lo.z > -v.upstream_length + tol || hi.z < v.downstream_length - tol)
             throw SceneError("/field/file", "the field map does not cover the modelled valve (x " +
-                                                std::to_string(-hx) + "..." + std::to_string(hx) + ", y +-" +
-                                                std::to_string(rb) + ", z " + std::to_string(-v.upstream_length) +
-                                                "..." + std::to_string(v.downstream_length) +
-                                                " m); solve it with the same valve (mrjam magnetics --field-map)");
+                                                format_number(-hx * 1e3) + "..." + format_number(hx * 1e3) + ", y +-" +
+                                                format_number(rb * 1e3) + ", z " + format_number(-v.upstream_length * 1e3) +
+                                                "..." + format_number(v.downstream_length * 1e3) +
+                                                " mm); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
         out.field_map = std::make_shared<const FieldMap>(std::move(map));
     }
@@ -359,7 +359,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // The release is judged over one arrest window with the field off: a shorter release period
     // would end before the test is made and report every arrest as irreversible.
     if (p.release_time < p.arrest_window)
-        protocol.fail("release_time", "must be at least protocol/arrest_window (" + std::to_string(p.arrest_window * 1e3) +
+        protocol.fail("release_time", "must be at least protocol/arrest_window (" + format_number(p.arrest_window * 1e3) +
                                           " ms): the release is judged over one window with the field off");
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/format.hpp"
+
 namespace mrjam {
 
 bool Bounds::contains(double v) const {
@@ -143,8 +145,8 @@ long long SceneNode::integer(const std::string& key, std::optional<long long> fa
         }
     }
     if (value < lo || value > hi)
-        fail(key, "value " + std::to_string(value) + " is out of range; expected in [" + std::to_string(lo) +
-                      ", " + std::to_string(hi) + "]");
+        fail(key, "value " + format_number(value) + " is out of range; expected in [" + format_number(lo) +
+                      ", " + format_number(hi) + "]");
     record(key, value);
     return value;
 }

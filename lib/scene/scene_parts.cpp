@@ -1,18 +1,11 @@
 #include "scene/scene_parts.hpp"
 
 #include <cmath>
-#include <sstream>
 
 #include "fluid/slot_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 
 namespace mrjam {
-
-std::string format_number(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
 
 int read_axis(SceneNode& node, const std::string& key, std::optional<std::string> fallback) {
     const std::string a = node.choice(key, {"x", "y", "z"}, fallback);
@@ -95,7 +88,7 @@ std::shared_ptr<FlowField> read_flow(SceneNode node, const Domain& domain) {
                 if (valve.throat_end_z() + jet > valve.downstream_length * (1 + 1e-12))
                     node.fail("jet_length",
                               "the stream must re-open to the bore before the modelled tube ends (at most " +
-                                  std::to_string((valve.downstream_length - valve.throat_end_z()) * 1e3) +
+                                  format_number((valve.downstream_length - valve.throat_end_z()) * 1e3) +
                                   " mm here); shorten it or lengthen valve/downstream_length");
             }
             flow = std::make_shared<ValveFlow>(valve, speed, valve_flow_profile(name), jet);

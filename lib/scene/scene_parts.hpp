@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "core/domain.hpp"
+#include "core/format.hpp"
 #include "fluid/flow_field.hpp"
 #include "geometry/region.hpp"
 #include "geometry/size_distribution.hpp"
@@ -12,8 +13,6 @@
 
 namespace mrjam {
 
-// A number as a message shows it (the shortest of fixed and scientific, 6 digits).
-std::string format_number(double v);
 int read_axis(SceneNode& node, const std::string& key, std::optional<std::string> fallback);
 Region read_region(SceneNode node, const Domain& domain);
 SizeDistribution read_size_distribution(SceneNode node);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/format.hpp"
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
 #include "observers.hpp"
@@ -166,8 +167,8 @@ private:
         // wedged between two walls.
         if (spec_.gap() < 2.5 * d_max)
             throw SceneError("/cell/size", (spec_.lees_edwards ? "the height of the Lees-Edwards cell (" : "the gap between the rafts (") +
-                                               std::to_string(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
-                                               std::to_string(d_max * 1e6) + " um); make the cell higher" +
+                                               format_number(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
+                                               format_number(d_max * 1e6) + " um); make the cell higher" +
                                                (spec_.lees_edwards ? "" : " or the rafts thinner (/cell/raft_thickness)"));
         prepare(scene_->system);
     }
@@ -287,10 +288,10 @@ private:
         cur["magnetisation"] = {{"settled", settled}, {"max_overlap_ratio_seen", max_overlap_}, {"duration_s", done * s.dt}, {"steps", done},
                                 {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos_to_field", cs.mean_abs_cos},
                                 {"criterion", "contacts per grain and mean |cos| of contact normals to the field each vary by less than " +
-                                                  std::to_string(spec_.magnetise_tolerance) + " of their mean over the last " +
-                                                  std::to_string(spec_.magnetise_window) + " checks, one every " +
-                                                  std::to_string(spec_.magnetise_check_every) + " s, after at least " +
-                                                  std::to_string(spec_.magnetise_min) + " s; at most " + std::to_string(spec_.magnetise_max) + " s"}};
+                                                  format_number(spec_.magnetise_tolerance) + " of their mean over the last " +
+                                                  format_number(spec_.magnetise_window) + " checks, one every " +
+                                                  format_number(spec_.magnetise_check_every) + " s, after at least " +
+                                                  format_number(spec_.magnetise_min) + " s; at most " + format_number(spec_.magnetise_max) + " s"}};
         if (!settled && options_.progress)
             std::fprintf(stderr, "[%s] warning: chains had not settled after %.3g s (max_duration); shearing anyway\n",
                          options_.label.c_str(), done * s.dt);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/format.hpp"
 #include "geometry/disc_packing.hpp"
 #include "geometry/size_distribution.hpp"
 #include "scene/material_ranges.hpp"
@@ -169,11 +170,11 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         // The scaled constants go to the engine, which holds them to the same ranges: say so here,
         // where the scale that took them out was given.
         if (!youngs_modulus_range().contains(youngs * s.stiffness_scale))
-            sc.fail("stiffness", "scales the modulus to " + std::to_string(youngs * s.stiffness_scale) +
+            sc.fail("stiffness", "scales the modulus to " + format_number(youngs * s.stiffness_scale) +
                                      " Pa, below the engine's floor (" + youngs_modulus_range().describe() +
                                      "); scale it less or start from a stiffer material");
         if (!density_range().contains(density * s.density_scale))
-            sc.fail("density", "scales the density to " + std::to_string(density * s.density_scale) +
+            sc.fail("density", "scales the density to " + format_number(density * s.density_scale) +
                                    " kg/m3, past the engine's range (" + density_range().describe() + "); scale it less");
         sc.finish();
         s.material["youngs_modulus"] = youngs * s.stiffness_scale;
@@ -260,7 +261,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         // Sheared before the ramp ends, the cell would be measured in a field still rising.
         if (s.field_ramp > s.magnetise_min)
             m.fail(m.has("field_ramp") ? "field_ramp" : "min_duration",
-                   "the field ramps up over field_ramp (" + std::to_string(s.field_ramp * 1e6) + " us) and the chains must settle in "
+                   "the field ramps up over field_ramp (" + format_number(s.field_ramp * 1e6) + " us) and the chains must settle in "
                    "the full field: make min_duration at least field_ramp");
         m.finish();
     }

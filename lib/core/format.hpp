@@ -1,0 +1,16 @@
+#pragma once
+// Numbers as messages and reports show them to a user.
+#include <sstream>
+#include <string>
+
+namespace mrjam {
+
+// The shortest of fixed and scientific notation at 6 significant digits ("1.1", "2.5e-07"),
+// where std::to_string would print "1.100000" and "0.000000".
+inline std::string format_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+}  // namespace mrjam
