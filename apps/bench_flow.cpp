@@ -3,12 +3,11 @@
 // controller bins all grains and solves its slices at every observation (50 steps by default),
 // so the figures are ns per drag_at call (velocity and drag factor) and ns per grain per update, at points
 // spread uniformly through the quick tier's 30x stretch (docs/benchmarks.md quotes them).
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <random>
-
-#include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -112,9 +111,10 @@ void add_flow_bench_command(CLI::App& bench, int& exit_status) {
         out["ns_per_call"]["coupled"] = call;
         out["coupled_update_ns_per_grain"] = update;
         out["coupled_cells"] = coupled.cells();
-        std::printf("bench flow: %-10s %.1f ns per drag_at call; update %.1f ns per grain "
-                    "(%zu slice rings), every observation\n",
-                    "coupled", call, update, coupled.cells());
+        std::printf(
+            "bench flow: %-10s %.1f ns per drag_at call; update %.1f ns per grain "
+            "(%zu slice rings), every observation\n",
+            "coupled", call, update, coupled.cells());
         if (!args->json_out.empty()) write_json_file(args->json_out, out);
         exit_status = 0;
     });

@@ -646,8 +646,9 @@ void run_accuracy_bench(const AccuracyArgs& args) {
     // of the largest grains.
     if (!bulk && lz < 2.0 * dmax) {
         const double fewest = std::ceil(2.0 * dmax * lxy * lxy * kVolumeFraction / sizes.mean_particle_volume());
-        throw SceneError("--grains", "is too few for the slab (its side is fixed by the cutoff at " + format_number(lxy * 1e6) +
-                                         " um): give at least " + format_number(fewest) + ", or 0 for the default");
+        throw SceneError("--grains", "is too few for the slab (its side is fixed by the cutoff at " +
+                                         format_number(lxy * 1e6) + " um): give at least " + format_number(fewest) +
+                                         ", or 0 for the default");
     }
     const nlohmann::json size = {{"distribution", "lognormal"},
                                  {"median_diameter", kDiameter},

@@ -2,12 +2,11 @@
 // from the exact force between two equal magnetisable spheres, as their gap closes. Not a
 // timing: a table of the model's error (docs/magnetic_forces.md, "Close pairs"), from the exact
 // multipole solution in lib/magnetic/sphere_pair_exact.
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
-#include <vector>
-
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -29,17 +28,18 @@ struct SpherePairArgs {
 
 void run_sphere_pair_bench(const SpherePairArgs& args) {
     nlohmann::json rows = nlohmann::json::array();
-    std::printf("exact two-sphere force over the converged mutual-dipole force (gap in radii; axial: field along\n"
-                "the line of centres, attraction; transverse: across it, repulsion)\n");
+    std::printf(
+        "exact two-sphere force over the converged mutual-dipole force (gap in radii; axial: field along\n"
+        "the line of centres, attraction; transverse: across it, repulsion)\n");
     std::printf("%8s %8s %14s %14s %16s %6s\n", "mu_r", "gap", "axial ratio", "transv. ratio", "moment ratio ax.",
                 "order");
     for (double mu : args.permeabilities) {
         for (double gap : args.gaps) {
             const double s = 2.0 + gap;
-            const auto axial = converged_sphere_pair_response(mu, s, PairOrientation::axial, args.tolerance,
-                                                              args.max_order);
-            const auto across = converged_sphere_pair_response(mu, s, PairOrientation::transverse, args.tolerance,
-                                                               args.max_order);
+            const auto axial =
+                converged_sphere_pair_response(mu, s, PairOrientation::axial, args.tolerance, args.max_order);
+            const auto across =
+                converged_sphere_pair_response(mu, s, PairOrientation::transverse, args.tolerance, args.max_order);
             const auto axial_dip = mutual_dipole_pair_response(mu, s, PairOrientation::axial);
             const auto across_dip = mutual_dipole_pair_response(mu, s, PairOrientation::transverse);
             const double axial_ratio = axial.dpolarisability_ds / axial_dip.dpolarisability_ds;
@@ -84,8 +84,9 @@ void add_sphere_pair_bench_command(CLI::App& bench, int& exit_status) {
         // are below the double's resolution of the centre distance or past any force worth tabling.
         for (double mu : args->permeabilities)
             if (!(mu > 1 && mu <= 1e7))
-                throw SceneError("--permeability", "must be above 1 (a grain of permeability 1 is not magnetised) and at most 1e7, not " +
-                                                       format_number(mu));
+                throw SceneError("--permeability",
+                                 "must be above 1 (a grain of permeability 1 is not magnetised) and at most 1e7, not " +
+                                     format_number(mu));
         for (double gap : args->gaps)
             if (!(gap >= 1e-6 && gap <= 1e3))
                 throw SceneError("--gap", "must be between 1e-6 and 1000 radii, not " + format_number(gap));

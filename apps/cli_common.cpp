@@ -22,7 +22,7 @@ nlohmann::json read_json_file(const std::string& path) {
     struct Frame {
         bool array;
         std::string path;
-        std::size_t index = 0;  // arrays: the element being read
+        std::size_t index = 0;       // arrays: the element being read
         std::set<std::string> keys;  // objects: the keys seen
     };
     std::vector<Frame> open;
@@ -37,8 +37,12 @@ nlohmann::json read_json_file(const std::string& path) {
             if (!open.empty() && open.back().array) ++open.back().index;
         };
         switch (event) {
-            case E::object_start: open.push_back({false, child_path(), 0, {}}); break;
-            case E::array_start: open.push_back({true, child_path(), 0, {}}); break;
+            case E::object_start:
+                open.push_back({false, child_path(), 0, {}});
+                break;
+            case E::array_start:
+                open.push_back({true, child_path(), 0, {}});
+                break;
             case E::object_end:
             case E::array_end:
                 open.pop_back();
@@ -46,9 +50,12 @@ nlohmann::json read_json_file(const std::string& path) {
                 break;
             case E::key:
                 last_key = parsed.get<std::string>();
-                if (!open.back().keys.insert(last_key).second && duplicate.empty()) duplicate = open.back().path + "/" + last_key;
+                if (!open.back().keys.insert(last_key).second && duplicate.empty())
+                    duplicate = open.back().path + "/" + last_key;
                 break;
-            case E::value: element_done(); break;
+            case E::value:
+                element_done();
+                break;
         }
         return true;
     };
@@ -58,8 +65,7 @@ nlohmann::json read_json_file(const std::string& path) {
     } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number out of range (1e999)
         throw SceneError(path, std::string("not valid JSON: ") + e.what());
     }
-    if (!duplicate.empty())
-        throw SceneError(duplicate, "is given twice in the same object (" + path + "); keep one");
+    if (!duplicate.empty()) throw SceneError(duplicate, "is given twice in the same object (" + path + "); keep one");
     return parsed;
 }
 
@@ -78,7 +84,8 @@ void prepare_output_file(const std::string& path, const std::string& option, con
     };
     for (const std::string& input : inputs)
         if (!input.empty() && same_file(input))
-            throw SceneError(option, path + " is also this command's input " + input + ": writing it would lose that; give another file");
+            throw SceneError(option, path + " is also this command's input " + input +
+                                         ": writing it would lose that; give another file");
     if (p.has_parent_path()) prepare_output_directory(p.parent_path().string(), option);
 }
 

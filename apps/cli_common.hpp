@@ -1,9 +1,8 @@
 #pragma once
 // Shared by the subcommands: reading a scene file and mapping failures to exit codes.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "jam/proportion_interval.hpp"
 
@@ -22,7 +21,8 @@ nlohmann::json read_json_file(const std::string& path);
 // work if it is empty, a directory, under a file, or one of the command's `inputs` (the scene,
 // the checkpoint: written over, the input would be lost); its directory is created. A long run
 // must not find out at its end that its report cannot be written.
-void prepare_output_file(const std::string& path, const std::string& option, const std::vector<std::string>& inputs = {});
+void prepare_output_file(const std::string& path, const std::string& option,
+                         const std::vector<std::string>& inputs = {});
 
 // A probability's interval in a report: [low, high].
 inline nlohmann::json interval_json(const ProportionInterval& ci) { return nlohmann::json::array({ci.low, ci.high}); }

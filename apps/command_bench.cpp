@@ -10,6 +10,7 @@
 //
 // `mrjam bench magnetic` and `bench magnetic-accuracy` live in bench_magnetic.cpp
 // (docs/magnetic_forces.md).
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,14 +20,12 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "contact/restitution.hpp"
 #include "integrator.hpp"
-#include "observers.hpp"
 #include "io/lammps_data.hpp"
+#include "observers.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
 #include "timestep.hpp"
@@ -51,10 +50,18 @@ nlohmann::json contact_bench_scene(long grains) {
         {"description", "contact benchmark: monodisperse Hertz-Mindlin grains with friction, phi 0.5, periodic"},
         {"seed", 7},
         {"domain", {{"lo", {0, 0, 0}}, {"hi", {side, side, side}}, {"periodic", "xyz"}}},
-        {"materials", {{{"name", "glass"}, {"density", 2500}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3},
-                        {"restitution", 0.5}, {"friction", 0.5}}}},
-        {"grains", {{{"material", "glass"}, {"size", {{"distribution", "single"}, {"diameter", d}}},
-                     {"placement", {{"method", "random"}, {"volume_fraction", phi}}}, {"random_velocity", 0.1}}}},
+        {"materials",
+         {{{"name", "glass"},
+           {"density", 2500},
+           {"youngs_modulus", 1e7},
+           {"poisson_ratio", 0.3},
+           {"restitution", 0.5},
+           {"friction", 0.5}}}},
+        {"grains",
+         {{{"material", "glass"},
+           {"size", {{"distribution", "single"}, {"diameter", d}}},
+           {"placement", {{"method", "random"}, {"volume_fraction", phi}}},
+           {"random_velocity", 0.1}}}},
         {"run", {{"timestep", 1e-6}, {"steps", 1}, {"skin", 0.1}}},
     };
 }
@@ -71,7 +78,7 @@ struct PairSpec {
     double youngs = 1e7;     // Pa
     double poisson = 0.3;
     double friction = 0.5;
-    double speed = 0.2;      // approach speed, m/s
+    double speed = 0.2;  // approach speed, m/s
 };
 
 Material pair_material(const PairSpec& p, double restitution) {
@@ -142,7 +149,9 @@ Collision collide(const PairSpec& p, double restitution, double speed, double dt
         for (long k = 0; k < max_steps && end < 0; ++k) {
             advance(s);
             const double overlap = 2 * p.radius - norm(s.particles.position[0] - s.particles.position[1]);
-            const auto crossing = [&] { return prev_time + (s.time - prev_time) * prev_overlap / (prev_overlap - overlap); };
+            const auto crossing = [&] {
+                return prev_time + (s.time - prev_time) * prev_overlap / (prev_overlap - overlap);
+            };
             if (begin < 0 && prev_overlap <= 0 && overlap > 0) begin = crossing();
             if (begin >= 0 && end < 0 && prev_overlap > 0 && overlap <= 0) end = crossing();
             prev_overlap = overlap;
@@ -198,15 +207,19 @@ nlohmann::json restitution_json(double e, const PhaseAveraged& r) {
 
 std::string cell(double x, int width) {
     char buf[48];
-    if (std::isfinite(x)) std::snprintf(buf, sizeof buf, "%+*.3f", width, x);
-    else std::snprintf(buf, sizeof buf, "%*s", width, "n/a");
+    if (std::isfinite(x))
+        std::snprintf(buf, sizeof buf, "%+*.3f", width, x);
+    else
+        std::snprintf(buf, sizeof buf, "%*s", width, "n/a");
     return buf;
 }
 
 std::string spread_cell(double lo, double hi, int width) {
     char buf[48];
-    if (std::isfinite(lo) && std::isfinite(hi)) std::snprintf(buf, sizeof buf, "%+.2f..%+.2f", lo, hi);
-    else std::snprintf(buf, sizeof buf, "n/a");
+    if (std::isfinite(lo) && std::isfinite(hi))
+        std::snprintf(buf, sizeof buf, "%+.2f..%+.2f", lo, hi);
+    else
+        std::snprintf(buf, sizeof buf, "n/a");
     char out[64];
     std::snprintf(out, sizeof out, "%*s", width, buf);
     return out;
@@ -231,13 +244,16 @@ void run_restitution_bench(const std::string& json_out) {
     const std::vector<long> resolutions = {5, 10, 20, 50, 100, 200, 1000};
     const double t_c = pc.contact_duration(pair.speed);
 
-    std::printf("bench restitution: head-on collision of two equal grains, R %g m, density %g kg/m3, Y %g Pa, "
-                "nu %g, friction %g, approach speed %g m/s\n",
-                pair.radius, pair.density, pair.youngs, pair.poisson, pair.friction, pair.speed);
-    std::printf("Hertz contact duration t_c = %.4g s; dt = t_c / (steps per contact); each figure is the mean over "
-                "%d impact phases within a step.\n\n",
-                t_c, kPhases);
-    std::printf("Relative error of the realised restitution and of the undamped (e = 1) contact duration, %% (signed):\n\n");
+    std::printf(
+        "bench restitution: head-on collision of two equal grains, R %g m, density %g kg/m3, Y %g Pa, "
+        "nu %g, friction %g, approach speed %g m/s\n",
+        pair.radius, pair.density, pair.youngs, pair.poisson, pair.friction, pair.speed);
+    std::printf(
+        "Hertz contact duration t_c = %.4g s; dt = t_c / (steps per contact); each figure is the mean over "
+        "%d impact phases within a step.\n\n",
+        t_c, kPhases);
+    std::printf(
+        "Relative error of the realised restitution and of the undamped (e = 1) contact duration, %% (signed):\n\n");
     std::printf("| steps/contact |");
     print_e_header(restitutions, 8);
     std::printf(" t_c (e = 1) |\n|--------------:|");
@@ -296,9 +312,10 @@ void run_restitution_bench(const std::string& json_out) {
     const double safety = Scene{}.timestep_safety;  // the scene default of run.timestep_safety
     const TimestepLimits lim = timestep_limits(pair_system(pair, 0.5), characteristic_speed);
     const double dt_auto = safety * lim.critical;
-    std::printf("\nDefault automatic step: %g x critical time %.4g s (%s; Rayleigh %.4g s, Hertz at %g m/s %.4g s) "
-                "= %.4g s.\n",
-                safety, lim.critical, lim.limiting.c_str(), lim.rayleigh, characteristic_speed, lim.hertz, dt_auto);
+    std::printf(
+        "\nDefault automatic step: %g x critical time %.4g s (%s; Rayleigh %.4g s, Hertz at %g m/s %.4g s) "
+        "= %.4g s.\n",
+        safety, lim.critical, lim.limiting.c_str(), lim.rayleigh, characteristic_speed, lim.hertz, dt_auto);
     std::printf("Collisions of this pair run at that step, restitution error (%%, mean over phases):\n\n");
     std::printf("| impact speed (m/s) | t_c (s)   | steps/contact |");
     print_e_header(restitutions, 8);
@@ -316,22 +333,37 @@ void run_restitution_bench(const std::string& json_out) {
             std::printf(" %s |", cell(percent_error(r.restitution, e), 8).c_str());
         }
         std::printf("\n");
-        impacts.push_back({{"impact_speed", v}, {"contact_duration_s", tc_v}, {"steps_per_contact", tc_v / dt_auto},
+        impacts.push_back({{"impact_speed", v},
+                           {"contact_duration_s", tc_v},
+                           {"steps_per_contact", tc_v / dt_auto},
                            {"restitution", rest}});
     }
 
     if (!json_out.empty()) {
         const nlohmann::json out = {
             {"benchmark", "restitution"},
-            {"pair", {{"radius", pair.radius}, {"density", pair.density}, {"youngs_modulus", pair.youngs},
-                      {"poisson_ratio", pair.poisson}, {"friction", pair.friction}, {"impact_speed", pair.speed},
-                      {"reduced_mass", pc.reduced_mass}, {"reduced_radius", pc.reduced_radius},
-                      {"effective_youngs", pc.effective_youngs}, {"contact_duration_s", t_c}}},
+            {"pair",
+             {{"radius", pair.radius},
+              {"density", pair.density},
+              {"youngs_modulus", pair.youngs},
+              {"poisson_ratio", pair.poisson},
+              {"friction", pair.friction},
+              {"impact_speed", pair.speed},
+              {"reduced_mass", pc.reduced_mass},
+              {"reduced_radius", pc.reduced_radius},
+              {"effective_youngs", pc.effective_youngs},
+              {"contact_duration_s", t_c}}},
             {"impact_phases", kPhases},
             {"sweep", sweep},
-            {"default_step", {{"timestep_safety", safety}, {"characteristic_speed", characteristic_speed},
-                              {"rayleigh_s", lim.rayleigh}, {"hertz_s", lim.hertz}, {"critical_s", lim.critical},
-                              {"limiting", lim.limiting}, {"timestep_s", dt_auto}, {"impacts", impacts}}},
+            {"default_step",
+             {{"timestep_safety", safety},
+              {"characteristic_speed", characteristic_speed},
+              {"rayleigh_s", lim.rayleigh},
+              {"hertz_s", lim.hertz},
+              {"critical_s", lim.critical},
+              {"limiting", lim.limiting},
+              {"timestep_s", dt_auto},
+              {"impacts", impacts}}},
         };
         write_json_file(json_out, out);
     }
@@ -344,10 +376,17 @@ void add_bench_command(CLI::App& app, int& exit_status) {
     bench->require_subcommand(1);
     auto args = std::make_shared<BenchArgs>();
     CLI::App* contact = bench->add_subcommand("contact", "Hertz-Mindlin contact engine: grain-steps per second");
-    contact->add_option("--grains", args->grains, "Number of grains")->check(CLI::Range(11L, 10000000L))->capture_default_str();
-    contact->add_option("--steps", args->steps, "Timed steps")->check(CLI::Range(1L, 100000000L))->capture_default_str();
-    contact->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
-    contact->add_option("--write-data", args->write_data, "Also write the initial state as a LAMMPS data file (for LIGGGHTS)");
+    contact->add_option("--grains", args->grains, "Number of grains")
+        ->check(CLI::Range(11L, 10000000L))
+        ->capture_default_str();
+    contact->add_option("--steps", args->steps, "Timed steps")
+        ->check(CLI::Range(1L, 100000000L))
+        ->capture_default_str();
+    contact->add_option("--threads", args->threads, "OpenMP threads")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    contact->add_option("--write-data", args->write_data,
+                        "Also write the initial state as a LAMMPS data file (for LIGGGHTS)");
     contact->add_option("--json", args->json_out, "Write the figures as JSON here");
     contact->callback([args, &exit_status] {
         // Checked before the benchmark: found at its end, a bad path lost the run.
@@ -384,11 +423,12 @@ void add_bench_command(CLI::App& app, int& exit_status) {
             {"kinetic_energy_final_J", energy(s).translational},
             {"rotational_energy_final_J", energy(s).rotational},
         };
-        std::printf("bench contact: %zu grains, %ld steps, %d thread(s): %.3g grain-steps/s, %.3f core-us per grain-step "
-                    "(%.2f contacts and %.2f listed neighbours per grain, %ld list builds)\n",
-                    s.particles.size(), args->steps, args->threads, grain_steps / wall,
-                    wall * args->threads * 1e6 / grain_steps, out["contacts_per_grain"].get<double>(),
-                    out["neighbour_pairs_per_grain"].get<double>(), s.contacts.builds());
+        std::printf(
+            "bench contact: %zu grains, %ld steps, %d thread(s): %.3g grain-steps/s, %.3f core-us per grain-step "
+            "(%.2f contacts and %.2f listed neighbours per grain, %ld list builds)\n",
+            s.particles.size(), args->steps, args->threads, grain_steps / wall,
+            wall * args->threads * 1e6 / grain_steps, out["contacts_per_grain"].get<double>(),
+            out["neighbour_pairs_per_grain"].get<double>(), s.contacts.builds());
         if (!args->json_out.empty()) write_json_file(args->json_out, out);
         exit_status = 0;
     });

@@ -2,18 +2,16 @@
 // constriction: solve the EPM's field (magnetics/), write its field map, run the jam predictor
 // in that field, estimate the open valve's flow rate at the supply pressure; then name the
 // widest constriction that still jams reliably.
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 
-#include <CLI/CLI.hpp>
-
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "design_progress.hpp"
 #include "design_scenes.hpp"
-#include "seed_tally.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/open_flow.hpp"
@@ -23,6 +21,7 @@
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
+#include "seed_tally.hpp"
 
 namespace mrjam::cli {
 
@@ -41,17 +40,21 @@ struct DesignArgs {
 
 // Whether a constriction's jam checkpoint is of seed `k` of this design's scene for it.
 bool resumes_seed(const JamCheckpoint& ck, const json& jscene, int k) {
-    return ck.campaign.is_object() && ck.campaign.value("seed_index", -1) == k && ck.campaign.value("scene", json()) == jscene;
+    return ck.campaign.is_object() && ck.campaign.value("seed_index", -1) == k &&
+           ck.campaign.value("scene", json()) == jscene;
 }
 }  // namespace
 
 void add_design_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<DesignArgs>();
-    CLI::App* cmd = app.add_subcommand("design", "Magnetics -> field map -> jam predictor, for a list of constrictions");
+    CLI::App* cmd =
+        app.add_subcommand("design", "Magnetics -> field map -> jam predictor, for a list of constrictions");
     cmd->add_option("scene", args->scene, "Design JSON (see docs/jam.md)")->required();
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
-                                ->check(CLI::IsMember(jam_tier_names()))->capture_default_str();
+    CLI::Option* fidelity =
+        cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
+            ->check(CLI::IsMember(jam_tier_names()))
+            ->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     cmd->add_flag("--resume", args->resume,
@@ -73,7 +76,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
             progress.inputs = design;
             progress.fidelity = args->fidelity;
         }
-        const std::string magnetics_tier = args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
+        const std::string magnetics_tier =
+            args->fidelity == "paper" ? "paper" : "standard";  // 2D is too far off to design with
         if (magnetics::find_getdp().empty()) {
             std::cerr << "error: getdp was not found on PATH; install it with `apt-get install getdp`\n";
             exit_status = kExitBadInput;
@@ -90,16 +94,24 @@ void add_design_command(CLI::App& app, int& exit_status) {
         // The design report, written when the design ends and also when a jam run stops it
         // (a blow-up, Ctrl-C): the constrictions finished by then are not lost.
         auto write_report = [&](const std::string& status, const json& stopped) {
-            const double wall = progress.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-            json report = {{"mrjam_version", MRJAM_VERSION}, {"mode", "design"}, {"status", status},
-                           {"scene_file", args->scene}, {"inputs", design}, {"inputs_design", spec.resolved},
-                           {"fidelity", {{"jam_tier", args->fidelity}, {"magnetics_tier", magnetics_tier}}},
-                           {"results", {{"constrictions", progress.rows},
-                                        {"widest_reliable_constriction", progress.widest.empty() ? json(nullptr) : json(progress.widest)},
-                                        {"required_jam_probability", spec.required_jam_probability},
-                                        {"open_flow_model", "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
-                                                            "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}},
-                           {"wall_time_s", wall}};
+            const double wall = progress.wall_time_s +
+                                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            json report = {
+                {"mrjam_version", MRJAM_VERSION},
+                {"mode", "design"},
+                {"status", status},
+                {"scene_file", args->scene},
+                {"inputs", design},
+                {"inputs_design", spec.resolved},
+                {"fidelity", {{"jam_tier", args->fidelity}, {"magnetics_tier", magnetics_tier}}},
+                {"results",
+                 {{"constrictions", progress.rows},
+                  {"widest_reliable_constriction", progress.widest.empty() ? json(nullptr) : json(progress.widest)},
+                  {"required_jam_probability", spec.required_jam_probability},
+                  {"open_flow_model",
+                   "Krieger-Dougherty suspension viscosity, Poiseuille bore and throat, "
+                   "sharp orifice loss (C_d 0.61); mineral oil 850 kg/m3"}}},
+                {"wall_time_s", wall}};
             if (!stopped.is_null()) report["stopped"] = stopped;
             if (status == "interrupted") report["resume_with"] = resume_hint;
             if (args->resume) report["resumed"] = true;
@@ -159,8 +171,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 std::cerr << "[design] " << name << ": the field solved before the interruption, " << map << "\n";
             }
             // 2. The jam predictor in that field, with the same valve.
-            const json jscene =
-                design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "map"}, {"file", fs::absolute(map).string()}});
+            const json jscene = design_jam_inputs(spec, dir, ms.resolved["valve"],
+                                                  json{{"type", "map"}, {"file", fs::absolute(map).string()}});
             const JamScene js = design_jam_scene(spec, jscene, args->fidelity);
             // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are
@@ -177,13 +189,22 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 if (k == 0) options.picture_path = (dir / "throat.png").string();
                 // This constriction's seeds as `mrjam jam` records them, so an interrupted run's
                 // checkpoint resumes with `mrjam design --resume` or `mrjam jam --resume` (that constriction only).
-                options.campaign = {{"scene", jscene}, {"tier", args->fidelity}, {"base_directory", spec.base_directory},
-                                    {"seeds", seeds}, {"seed_index", k}, {"runs", progress.runs},
-                                    {"first_report", progress.first_report}, {"snapshots", ""}, {"snapshot_every_s", 0.0}};
+                options.campaign = {{"scene", jscene},
+                                    {"tier", args->fidelity},
+                                    {"base_directory", spec.base_directory},
+                                    {"seeds", seeds},
+                                    {"seed_index", k},
+                                    {"runs", progress.runs},
+                                    {"first_report", progress.first_report},
+                                    {"snapshots", ""},
+                                    {"snapshot_every_s", 0.0}};
                 // The seed that was running when the design was interrupted (a finished seed leaves no checkpoint).
-                if (args->resume && fs::exists(checkpoint) && resumes_seed(read_jam_checkpoint(checkpoint.string()), jscene, k)) {
+                if (args->resume && fs::exists(checkpoint) &&
+                    resumes_seed(read_jam_checkpoint(checkpoint.string()), jscene, k)) {
                     options.resume_checkpoint = checkpoint.string();
-                    if (!args->quiet) std::cerr << "[design] " << name << ": resuming seed " << k + 1 << " from " << checkpoint << "\n";
+                    if (!args->quiet)
+                        std::cerr << "[design] " << name << ": resuming seed " << k + 1 << " from " << checkpoint
+                                  << "\n";
                 }
                 const long long seed = js.engine_scene["seed"].get<long long>() + k;
                 if (!args->quiet)
@@ -191,21 +212,30 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 const JamOutcome o = run_jam(js, seed, options);
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
                 // Named by the seed itself, as the design report's runs name it.
-                const fs::path seed_report = dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(seed) + ".json");
+                const fs::path seed_report =
+                    dir / (k == 0 ? "jam_report.json" : "jam_report_seed" + std::to_string(seed) + ".json");
                 json jam_report = o.report;
                 jam_report["inputs_jam"] = js.resolved;
                 write_json_file(seed_report.string(), jam_report);
                 if (o.exit_status == kExitInterrupted)
-                    return interrupted({{"constriction", name}, {"stage", "jam run"}, {"seed", seed}, {"seed_index", k},
-                                        {"jam_report", seed_report.string()}, {"checkpoint", checkpoint.string()}});
+                    return interrupted({{"constriction", name},
+                                        {"stage", "jam run"},
+                                        {"seed", seed},
+                                        {"seed_index", k},
+                                        {"jam_report", seed_report.string()},
+                                        {"checkpoint", checkpoint.string()}});
                 if (o.exit_status != 0) {
                     exit_status = o.exit_status;
                     // Say why it stopped: a blow-up's cause and its fixes are in the report's "error".
-                    std::cerr << "[design] the jam run for " << name << " stopped; its partial report is " << seed_report << "\n";
-                    if (o.report.contains("error")) std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
-                    write_report(o.report.value("status", std::string("failed")),
-                                 {{"constriction", name}, {"seed", seed}, {"seed_index", k}, {"jam_report", seed_report.string()},
-                                  {"exit_status", o.exit_status}});
+                    std::cerr << "[design] the jam run for " << name << " stopped; its partial report is "
+                              << seed_report << "\n";
+                    if (o.report.contains("error"))
+                        std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
+                    write_report(o.report.value("status", std::string("failed")), {{"constriction", name},
+                                                                                   {"seed", seed},
+                                                                                   {"seed_index", k},
+                                                                                   {"jam_report", seed_report.string()},
+                                                                                   {"exit_status", o.exit_status}});
                     std::cerr << "[design] the constrictions finished before it are in " << args->report << "\n";
                     return;
                 }
@@ -216,7 +246,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 record["jam_report"] = seed_report.string();
                 progress.runs.push_back(record);
                 if (!args->quiet) {
-                    std::cerr << "[design] " << name << " seed " << seed << ": " << record["outcome"].get<std::string>();
+                    std::cerr << "[design] " << name << " seed " << seed << ": "
+                              << record["outcome"].get<std::string>();
                     if (o.time_to_arrest >= 0) std::cerr << ", arrest at " << o.time_to_arrest * 1e3 << " ms of field";
                     std::cerr << "\n";
                 }
@@ -225,7 +256,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
             // 3. The open valve's flow at the supply pressure.
             const double phi = js.resolved["grains"].value("volume_fraction", 0.345);
             const double mu = js.resolved["fluid"].value("viscosity", 0.16);
-            const double rho_s = phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
+            const double rho_s =
+                phi * js.resolved["material"].value("density", 7800.0) + (1 - phi) * 850.0;  // mineral oil
             const OpenFlowEstimate flow = open_flow_estimate(js.valve, mu, phi, rho_s, js.flow.supply_pressure);
             // Seeds without a no-field flux are left out (with a hold, only arrests that held are
             // jams); a constriction with none judged cannot be named.
@@ -238,18 +270,21 @@ void add_design_command(CLI::App& app, int& exit_status) {
             if (tally.judged < seeds)
                 std::cerr << "[design] warning: " << name << ": " << seeds - tally.judged << " of " << seeds
                           << " seed(s) undetermined (no grain crossed without field), left out\n";
-            json row = {{"constriction", name}, {"diameter_m", diameter},
+            json row = {{"constriction", name},
+                        {"diameter_m", diameter},
                         {"mean_B_active_T", progress.field["mean_B_active_T"]},
                         {"max_B_active_T", progress.field["max_B_active_T"]},
                         {"B_on_axis", field_on_axis},
                         {"runs", progress.runs},
-                        {"open_flow_rate_m3_s", flow.flow_rate}, {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
-                        {"open_throat_speed_m_s", flow.throat_speed}, {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
+                        {"open_flow_rate_m3_s", flow.flow_rate},
+                        {"open_flow_rate_ml_min", flow.flow_rate * 6e7},
+                        {"open_throat_speed_m_s", flow.throat_speed},
+                        {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                         {"field_map", map.string()}};
             row.update(seed_probabilities(tally));
             if (!args->quiet)
-                std::cerr << "[design] " << name << ": " << tally.jams << " jam(s) in " << tally.judged << " seed(s) judged; open flow "
-                          << flow.flow_rate * 6e7 << " ml/min\n";
+                std::cerr << "[design] " << name << ": " << tally.jams << " jam(s) in " << tally.judged
+                          << " seed(s) judged; open flow " << flow.flow_rate * 6e7 << " ml/min\n";
             progress.rows.push_back(row);
             progress.field = nullptr;
             progress.runs = json::array();
@@ -258,8 +293,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
         }
         write_report("complete", nullptr);
         if (!args->quiet)
-            std::cerr << "[design] widest constriction that jams reliably: " << (progress.widest.empty() ? "none" : progress.widest)
-                      << "; report " << args->report << "\n";
+            std::cerr << "[design] widest constriction that jams reliably: "
+                      << (progress.widest.empty() ? "none" : progress.widest) << "; report " << args->report << "\n";
         exit_status = 0;
     });
 }

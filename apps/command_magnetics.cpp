@@ -1,11 +1,10 @@
 // `mrjam magnetics SCENE.json --report R.json [--field-map MAP] [--fidelity TIER]`: the field
 // an EPM valve puts into its fluid (magnetics/), with a picture of |B| on the mid-plane and,
 // on request, a field map the DEM engine reads.
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -67,7 +66,9 @@ nlohmann::json results_json(const EpmField& f, const MagneticsScene& scene) {
     const SourceFigure ref = source_figure(scene);
     if (ref.tesla > 0) {
         const double ours = ref.region == "active" ? f.mean_b_active : f.mean_b_inactive;
-        r["source_comparison"] = {{"what", ref.what}, {"source_T", ref.tesla}, {"this_model_T", ours},
+        r["source_comparison"] = {{"what", ref.what},
+                                  {"source_T", ref.tesla},
+                                  {"this_model_T", ours},
                                   {"relative_difference", (ours - ref.tesla) / ref.tesla}};
     }
     return r;
@@ -80,15 +81,19 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
     CLI::App* cmd = app.add_subcommand("magnetics", "Field of an EPM valve (gmsh + GetDP, or the circuit estimate)");
     cmd->add_option("scene", args->scene, "Magnetics scene JSON (see docs/magnetics.md)")->required();
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
-    CLI::Option* field_map = cmd->add_option("--field-map", args->field_map, "Also write B on a grid over the fluid (mrjam-fieldmap format)");
+    CLI::Option* field_map = cmd->add_option("--field-map", args->field_map,
+                                             "Also write B on a grid over the fluid (mrjam-fieldmap format)");
     cmd->add_option("--fidelity", args->fidelity, "quick (2D), standard (3D) or paper (3D, fine mesh); the scene wins")
-        ->check(CLI::IsMember(magnetics_tier_names()))->capture_default_str();
+        ->check(CLI::IsMember(magnetics_tier_names()))
+        ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     cmd->callback([args, field_map, &exit_status] {
         const auto start = std::chrono::steady_clock::now();
         // A solve can take minutes: what it would write is checked before it.
         prepare_output_file(args->report, "--report", {args->scene});
-        if (field_map->count() > 0) prepare_output_file(args->field_map, "--field-map", {args->scene, args->report});  // "" is refused, not "none"
+        if (field_map->count() > 0)
+            prepare_output_file(args->field_map, "--field-map",
+                                {args->scene, args->report});  // "" is refused, not "none"
         MagneticsScene scene = read_magnetics_scene(read_json_file(args->scene), args->fidelity);
         const bool fem = scene.request.field_model != FieldModel::circuit;
         if (!args->field_map.empty() && !fem)
@@ -132,10 +137,13 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
         report["status"] = "done";
         report["scene_file"] = args->scene;
         report["inputs"] = scene.resolved;
-        report["fidelity"] = {{"tier", scene.tier}, {"model", field_model_name(field.field_model)},
+        report["fidelity"] = {{"tier", scene.tier},
+                              {"model", field_model_name(field.field_model)},
                               {"mesh", scene.resolved.value("mesh", nlohmann::json::object())}};
         report["results"] = results_json(field, scene);
-        report["mesh"] = {{"nodes", field.mesh_nodes}, {"elements", field.mesh_elements}, {"unknowns", field.unknowns},
+        report["mesh"] = {{"nodes", field.mesh_nodes},
+                          {"elements", field.mesh_elements},
+                          {"unknowns", field.unknowns},
                           {"solver_iterations", field.solver_iterations}};
         report["notes"] = field.notes;
         nlohmann::json outputs = nlohmann::json::object();
@@ -150,7 +158,8 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
             const FieldGrid& g = field.fluid_map;
             FieldMap(g.count, g.origin, g.spacing, g.values).write(args->field_map);
             outputs["field_map"] = args->field_map;
-            outputs["field_map_grid"] = {{"count", g.count}, {"origin_m", {g.origin.x, g.origin.y, g.origin.z}},
+            outputs["field_map_grid"] = {{"count", g.count},
+                                         {"origin_m", {g.origin.x, g.origin.y, g.origin.z}},
                                          {"spacing_m", {g.spacing.x, g.spacing.y, g.spacing.z}}};
         }
         report["outputs"] = outputs;
@@ -159,8 +168,9 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
         write_json_file(args->report, report);
         if (fem && !scene.keep_solver_files) fs::remove_all(scene.request.work_dir);
         if (!args->quiet)
-            std::cerr << "[magnetics] mean |B| in the active fluid " << field.mean_b_active * 1e3 << " mT, inactive gap "
-                      << field.mean_b_inactive * 1e3 << " mT (" << total << " s); report " << args->report << "\n";
+            std::cerr << "[magnetics] mean |B| in the active fluid " << field.mean_b_active * 1e3
+                      << " mT, inactive gap " << field.mean_b_inactive * 1e3 << " mT (" << total << " s); report "
+                      << args->report << "\n";
         exit_status = 0;
     });
 }

@@ -1,9 +1,8 @@
 // `mrjam run SCENE.json --report REPORT.json`: the generic entry point. Runs any scene the
 // engine can express; other modes build their scenes and call the same protocol runner.
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -34,10 +33,14 @@ void add_run_command(CLI::App& app, int& exit_status) {
     cmd->add_option("scene", args->scene, "Scene JSON file (see docs/scene.md)");
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
     cmd->add_option("--resume", args->resume, "Continue from a checkpoint written by an earlier run");
-    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
+    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
-                                ->check(CLI::IsMember(fidelity_tier_names()))->capture_default_str();
+    CLI::Option* fidelity =
+        cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+            ->check(CLI::IsMember(fidelity_tier_names()))
+            ->capture_default_str();
     cmd->callback([args, fidelity, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("run", "give a SCENE file, or --resume CHECKPOINT (not both)");
@@ -58,9 +61,11 @@ void add_run_command(CLI::App& app, int& exit_status) {
             const CheckpointHeader header = read_checkpoint_header(args->resume);
             // A mode's checkpoint carries protocol state `mrjam run` knows nothing of.
             if (header.history.is_object()) {
-                const std::string mode = header.history.value("mode", header.history.contains("shear_input") ? "shear" : "another mode");
-                throw SceneError("--resume", args->resume + " was written by `mrjam " + mode + "`; resume it with `mrjam " + mode +
-                                                 " --resume " + args->resume + "`");
+                const std::string mode =
+                    header.history.value("mode", header.history.contains("shear_input") ? "shear" : "another mode");
+                throw SceneError("--resume", args->resume + " was written by `mrjam " + mode +
+                                                 "`; resume it with `mrjam " + mode + " --resume " + args->resume +
+                                                 "`");
             }
             build.insert_grains = false;
             scene = build_scene(header.resolved_scene, build);
@@ -82,7 +87,8 @@ void add_run_command(CLI::App& app, int& exit_status) {
         options.resumed_stage_log = resumed_stage_log;
         const RunOutcome outcome = run_protocol(scene, options, start);
         if (outcome.exit_status == 3) std::cerr << "error: " << outcome.report["error"].get<std::string>() << "\n";
-        std::cerr << "[run] " << outcome.report["status"].get<std::string>() << "; report written to " << args->report << "\n";
+        std::cerr << "[run] " << outcome.report["status"].get<std::string>() << "; report written to " << args->report
+                  << "\n";
         exit_status = outcome.exit_status;
     });
 }

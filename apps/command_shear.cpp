@@ -1,10 +1,9 @@
 // `mrjam shear SCENE.json --report R.json`: the shear-cell calibration mode (docs/shear.md).
 // Runs the study (lib/shear), writes the report and the flow-curve plot next to it, and with
 // --calibrate fits named model parameters to measured flow-curve points.
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -41,7 +40,9 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     report["inputs"] = spec.resolved;
     nlohmann::json fid = describe(shear_tier(spec.tier));
     // The first cell's engine scene (null from a checkpoint written before it was recorded there).
-    auto engine = [&](const char* key) { return out.engine.is_object() ? out.engine.value(key, nlohmann::json()) : nlohmann::json(); };
+    auto engine = [&](const char* key) {
+        return out.engine.is_object() ? out.engine.value(key, nlohmann::json()) : nlohmann::json();
+    };
     fid["engine"] = engine("fidelity");
     fid["stiffness_scale_used"] = spec.stiffness_scale;
     fid["density_scale_used"] = spec.density_scale;
@@ -63,28 +64,40 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
 
 void add_shear_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<ShearArgs>();
-    CLI::App* cmd = app.add_subcommand("shear", "Shear-cell calibration: flow curve, yield stress fits, field sweep, parameter fitting");
+    CLI::App* cmd = app.add_subcommand(
+        "shear", "Shear-cell calibration: flow curve, yield stress fits, field sweep, parameter fitting");
     cmd->add_option("scene", args->scene, "Shear scene JSON file (see docs/shear.md)");
-    cmd->add_option("--report", args->report, "Where to write the JSON report (the plot goes next to it)")->capture_default_str();
+    cmd->add_option("--report", args->report, "Where to write the JSON report (the plot goes next to it)")
+        ->capture_default_str();
     cmd->add_option("--resume", args->resume, "Continue a study from its checkpoint (finished rates are not redone)");
-    cmd->add_option("--calibrate", args->calibrate, "Measured flow curve (JSON or CSV of shear rate in 1/s, stress in Pa) to fit parameters to");
+    cmd->add_option("--calibrate", args->calibrate,
+                    "Measured flow curve (JSON or CSV of shear rate in 1/s, stress in Pa) to fit parameters to");
     cmd->add_option("--parameter", args->parameters,
-                    "With --calibrate: NAME=MIN:MAX, one or two of rolling_friction, friction, cohesion_energy_density, field_scale, "
+                    "With --calibrate: NAME=MIN:MAX, one or two of rolling_friction, friction, "
+                    "cohesion_energy_density, field_scale, "
                     "or a JSON pointer into the shear scene such as /material/restitution");
-    CLI::Option* max_runs = cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")->check(CLI::Range(2, 200))->capture_default_str();
-    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")->check(CLI::Range(1, 1024))->capture_default_str();
+    CLI::Option* max_runs = cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")
+                                ->check(CLI::Range(2, 200))
+                                ->capture_default_str();
+    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
-    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
-                                ->check(CLI::IsMember({"quick", "standard", "paper"}))->capture_default_str();
+    CLI::Option* fidelity =
+        cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
+            ->check(CLI::IsMember({"quick", "standard", "paper"}))
+            ->capture_default_str();
     cmd->callback([args, fidelity, max_runs, &exit_status] {
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("shear", "give a SCENE file, or --resume CHECKPOINT (not both)");
         if (!args->calibrate.empty() && !args->resume.empty())
-            throw CLI::ValidationError("shear", "--calibrate starts fresh studies; it cannot be combined with --resume");
+            throw CLI::ValidationError("shear",
+                                       "--calibrate starts fresh studies; it cannot be combined with --resume");
         if (args->calibrate.empty() && !args->parameters.empty())
             throw SceneError("--parameter", "sets what --calibrate fits: give --calibrate DATA too, or drop it");
         if (args->calibrate.empty() && max_runs->count() > 0)
-            throw SceneError("--max-runs", "limits the studies --calibrate runs: give --calibrate DATA too, or drop it");
+            throw SceneError("--max-runs",
+                             "limits the studies --calibrate runs: give --calibrate DATA too, or drop it");
         // A resumed study finishes at the tier it started with.
         if (!args->resume.empty() && fidelity->count() > 0)
             throw SceneError("--fidelity", "a resumed study keeps the tier it was started with; drop --fidelity");
@@ -110,7 +123,8 @@ void add_shear_command(CLI::App& app, int& exit_status) {
             report["fidelity"] = describe(shear_tier(spec.tier));
             report["plots"] = {{"calibration", write_calibration_plot(args->report, report, data)}};
             write_json_file(args->report, report);
-            std::cerr << "[shear] calibration " << report["status"].get<std::string>() << "; report written to " << args->report << "\n";
+            std::cerr << "[shear] calibration " << report["status"].get<std::string>() << "; report written to "
+                      << args->report << "\n";
             exit_status = report.value("exit_status", 0);
             return;
         }

@@ -71,8 +71,10 @@ DesignSpec read_design_spec(const json& design, const std::string& design_path) 
     root.text("description", "");
     if (design.contains("magnetics")) spec.magnetics_block = root.raw("magnetics");
     if (design.contains("jam")) spec.jam_block = root.raw("jam");
-    for (const auto& [key, block] : {std::pair{"/magnetics", &spec.magnetics_block}, std::pair{"/jam", &spec.jam_block}})
-        if (!block->is_object()) throw SceneError(key, std::string("must be a JSON object (a scene of `mrjam ") + (key + 1) + "`)");
+    for (const auto& [key, block] :
+         {std::pair{"/magnetics", &spec.magnetics_block}, std::pair{"/jam", &spec.jam_block}})
+        if (!block->is_object())
+            throw SceneError(key, std::string("must be a JSON object (a scene of `mrjam ") + (key + 1) + "`)");
     if (spec.magnetics_block.contains("valve") && !spec.magnetics_block["valve"].is_object())
         throw SceneError("/magnetics/valve", "must be a JSON object (the valve's keys)");
     spec.constrictions = read_constrictions(design.contains("constrictions") ? root.raw("constrictions")
@@ -80,7 +82,8 @@ DesignSpec read_design_spec(const json& design, const std::string& design_path) 
     spec.required_jam_probability = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
     spec.seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
     spec.output_directory = root.text("output_directory", "out/design");
-    if (spec.output_directory.empty()) throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
+    if (spec.output_directory.empty())
+        throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
     root.finish();
     spec.base_directory = fs::path(design_path).parent_path().string();
     return spec;
@@ -89,9 +92,11 @@ DesignSpec read_design_spec(const json& design, const std::string& design_path) 
 magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const fs::path& dir, double diameter,
                                                  const std::string& magnetics_tier) {
     json mscene = spec.magnetics_block;
-    const std::string from_list = "the design takes its constrictions from its own `constrictions` list; remove this key";
+    const std::string from_list =
+        "the design takes its constrictions from its own `constrictions` list; remove this key";
     json& valve = mscene["valve"];
-    if (valve.is_object() && valve.contains("constriction")) throw SceneError("/magnetics/valve/constriction", from_list);
+    if (valve.is_object() && valve.contains("constriction"))
+        throw SceneError("/magnetics/valve/constriction", from_list);
     set_design_key(valve, "/magnetics/valve", "constriction_diameter", diameter, from_list);
     set_design_key(mscene, "/magnetics", "state", "on", "the design solves the magnet's ON state; remove this key");
     set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
@@ -124,18 +129,20 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             const auto& [name, diameter] = spec.constrictions[i];
             const fs::path dir = spec.output_directory / name;
             const auto ms = design_magnetics_scene(spec, dir, diameter, magnetics_tier);
-            const JamScene js =
-                design_jam_scene(spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
+            const JamScene js = design_jam_scene(
+                spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
             // The field map covers the magnetics valve's tube; the jam run models its own length of
             // it, which must lie inside (found after the solve, this stopped the design there).
             const double up = ms.resolved["valve"]["upstream_length"].get<double>();
             const double down = ms.resolved["valve"]["downstream_length"].get<double>();
             for (const auto& [key, jam_length, field_length] :
-                 {std::tuple{"upstream_length", js.valve.upstream_length, up}, {"downstream_length", js.valve.downstream_length, down}})
+                 {std::tuple{"upstream_length", js.valve.upstream_length, up},
+                  {"downstream_length", js.valve.downstream_length, down}})
                 if (jam_length > field_length * (1 + 1e-9))
                     throw SceneError(std::string("/jam/model/") + key,
-                                     "the jam run would model " + format_number(jam_length * 1e3) + " mm of tube, past the " +
-                                         format_number(field_length * 1e3) + " mm the field is solved over (/magnetics/valve/" + key +
+                                     "the jam run would model " + format_number(jam_length * 1e3) +
+                                         " mm of tube, past the " + format_number(field_length * 1e3) +
+                                         " mm the field is solved over (/magnetics/valve/" + key +
                                          "): shorten this, or lengthen that");
             const long long seed = js.engine_scene["seed"].get<long long>();
             if (seed > std::numeric_limits<long long>::max() - (spec.seeds - 1))
@@ -146,7 +153,8 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             // A block's key that fails for this constriction only (a mesh too coarse for a narrow
             // throat, say): the message says which.
             if (e.path().starts_with("/magnetics") || e.path().starts_with("/jam"))
-                throw SceneError(e.path(), e.message() + " (with " + entry + ", \"" + spec.constrictions[i].first + "\")");
+                throw SceneError(e.path(),
+                                 e.message() + " (with " + entry + ", \"" + spec.constrictions[i].first + "\")");
             throw;
         }
 }

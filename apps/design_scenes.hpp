@@ -3,11 +3,10 @@
 // magnetics scene whose field is solved, and the jam scene run in that field). Every error is
 // named from the design file's root ("/jam/protocol/arrest_fraction", "/constrictions/1").
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "jam/jam_scene.hpp"
 #include "magnetics/magnetics_scene.hpp"
@@ -15,8 +14,8 @@
 namespace mrjam::cli {
 
 struct DesignSpec {
-    nlohmann::json design;    // the file as read
-    nlohmann::json resolved;  // the design's own keys with their defaults
+    nlohmann::json design;                                      // the file as read
+    nlohmann::json resolved;                                    // the design's own keys with their defaults
     nlohmann::json magnetics_block = nlohmann::json::object();  // a `mrjam magnetics` scene, less what the design sets
     nlohmann::json jam_block = nlohmann::json::object();        // a `mrjam jam` scene, less what the design sets
     std::vector<std::pair<std::string, double>> constrictions;  // as written ("20x", "1.2 mm") and in metres
@@ -30,8 +29,8 @@ struct DesignSpec {
 DesignSpec read_design_spec(const nlohmann::json& design, const std::string& design_path);
 
 // The magnetics scene of one constriction, its solve under `dir`/magnetics.
-magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const std::filesystem::path& dir, double diameter,
-                                                 const std::string& magnetics_tier);
+magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const std::filesystem::path& dir,
+                                                 double diameter, const std::string& magnetics_tier);
 
 // The jam scene of one constriction as written (also what `mrjam jam --resume` reads back from its
 // checkpoint): the jam block with the magnetics valve, `field` and an output under `dir`/jam.

@@ -1,7 +1,6 @@
 // mrjam: design tool for jamming magnetorheological valves. This file only wires subcommands.
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "cli_common.hpp"
 #include "commands.hpp"

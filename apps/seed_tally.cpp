@@ -23,8 +23,12 @@ SeedTally tally_seeds(const nlohmann::json& records) {
 
 nlohmann::json seed_probabilities(const SeedTally& t) {
     const int arrests = static_cast<int>(t.arrest_times.size());
-    auto share = [&](int k) { return t.judged > 0 ? nlohmann::json(static_cast<double>(k) / t.judged) : nlohmann::json(nullptr); };
-    auto interval = [&](int k) { return t.judged > 0 ? interval_json(wilson_interval(k, t.judged)) : nlohmann::json(nullptr); };
+    auto share = [&](int k) {
+        return t.judged > 0 ? nlohmann::json(static_cast<double>(k) / t.judged) : nlohmann::json(nullptr);
+    };
+    auto interval = [&](int k) {
+        return t.judged > 0 ? interval_json(wilson_interval(k, t.judged)) : nlohmann::json(nullptr);
+    };
     return {{"jam_probability", share(t.jams)},
             {"arrest_probability", share(arrests)},
             {"jam_probability_95ci", interval(t.jams)},

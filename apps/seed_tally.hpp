@@ -2,16 +2,15 @@
 // The seeds of one case, as `mrjam jam --seeds N` and `mrjam design` count them from the seed
 // records (jam/jam_run.hpp, jam_seed_record): jams, arrests and their times, and the seeds that
 // could not be judged.
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 namespace mrjam::cli {
 
 struct SeedTally {
     int seeds = 0;
-    int judged = 0;  // seeds with a no-field flux to measure an arrest against
-    int jams = 0;    // arrests that stopped the flow (with a hold: and held)
+    int judged = 0;                    // seeds with a no-field flux to measure an arrest against
+    int jams = 0;                      // arrests that stopped the flow (with a hold: and held)
     std::vector<double> arrest_times;  // every judged arrest's, held or not
 };
 

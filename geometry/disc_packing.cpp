@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -36,8 +36,10 @@ struct Plane {
     // Back into the box: wrapped on periodic axes, inside by the radius on closed ones.
     void confine(double x[2], double r) const {
         for (int k = 0; k < 2; ++k) {
-            if (wrap[k]) x[k] -= len[k] * std::floor((x[k] - lo[k]) / len[k]);
-            else x[k] = std::clamp(x[k], lo[k] + r, lo[k] + len[k] - r);
+            if (wrap[k])
+                x[k] -= len[k] * std::floor((x[k] - lo[k]) / len[k]);
+            else
+                x[k] = std::clamp(x[k], lo[k] + r, lo[k] + len[k] - r);
         }
     }
 };
@@ -72,8 +74,10 @@ public:
             }
             for (int d = -1; d <= 1; ++d) {
                 int m = c + d;
-                if (plane_.wrap[k]) m = (m + count_[k]) % count_[k];
-                else if (m < 0 || m >= count_[k]) continue;
+                if (plane_.wrap[k])
+                    m = (m + count_[k]) % count_[k];
+                else if (m < 0 || m >= count_[k])
+                    continue;
                 cells[k][n[k]++] = m;
             }
         }
@@ -96,14 +100,15 @@ private:
 
 }  // namespace
 
-DiscPackingResult random_disc_packing(const Domain& domain, int normal, const SizeDistribution& sizes, double area_fraction,
-                                      Rng& rng, const PackingOptions& options) {
+DiscPackingResult random_disc_packing(const Domain& domain, int normal, const SizeDistribution& sizes,
+                                      double area_fraction, Rng& rng, const PackingOptions& options) {
     if (!(area_fraction > 0.0) || area_fraction > kRandomClosePackingDiscs)
         throw std::invalid_argument("random_disc_packing: area fraction " + fmt(area_fraction) +
                                     " is outside (0, 0.84]; 0.84 is random close packing of discs, above it a random "
                                     "packing of discs cannot exist");
     if (normal < 0 || normal > 2 || domain.periodic[normal])
-        throw std::invalid_argument("random_disc_packing: the monolayer's normal axis must be one of x, y, z and not periodic");
+        throw std::invalid_argument(
+            "random_disc_packing: the monolayer's normal axis must be one of x, y, z and not periodic");
     Plane plane;
     for (int k = 0; k < 2; ++k) {
         plane.axis[k] = (normal + 1 + k) % 3;
@@ -115,8 +120,9 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
     for (int k = 0; k < 2; ++k)
         if ((plane.wrap[k] && plane.len[k] < 2 * d_max) || (!plane.wrap[k] && plane.len[k] <= d_max))
             throw std::invalid_argument("random_disc_packing: the box is " + fmt(plane.len[k]) + " m along " +
-                                        std::string(1, char('x' + plane.axis[k])) + ", too short for the largest grain (" +
-                                        fmt(d_max) + " m; a periodic side needs two diameters)");
+                                        std::string(1, char('x' + plane.axis[k])) +
+                                        ", too short for the largest grain (" + fmt(d_max) +
+                                        " m; a periodic side needs two diameters)");
     if (domain.hi[normal] - domain.lo[normal] < d_max)
         throw std::invalid_argument("random_disc_packing: the layer is thinner than the largest grain");
 
@@ -126,15 +132,25 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
     double area = 0;
     for (;;) {
         const double d = sizes.sample(rng), a = 0.25 * kPi * d * d;
-        if (area + a < target) { diameters.push_back(d); area += a; continue; }
-        if (area + a - target < target - area) { diameters.push_back(d); area += a; }
+        if (area + a < target) {
+            diameters.push_back(d);
+            area += a;
+            continue;
+        }
+        if (area + a - target < target - area) {
+            diameters.push_back(d);
+            area += a;
+        }
         break;
     }
     std::sort(diameters.begin(), diameters.end(), std::greater<>());
     const std::size_t n = diameters.size();
     std::vector<double> r(n), w(n);  // radius, area weight (pi cancels)
     std::vector<std::array<double, 2>> x(n);
-    for (std::size_t i = 0; i < n; ++i) { r[i] = 0.5 * diameters[i]; w[i] = r[i] * r[i]; }
+    for (std::size_t i = 0; i < n; ++i) {
+        r[i] = 0.5 * diameters[i];
+        w[i] = r[i] * r[i];
+    }
 
     Grid grid(plane, d_max, n);
     auto worst_overlap_at = [&](std::size_t i, const double xi[2], std::size_t placed) {
@@ -157,7 +173,11 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
                 c[k] = plane.wrap[k] ? rng.uniform(plane.lo[k], plane.lo[k] + plane.len[k])
                                      : rng.uniform(plane.lo[k] + r[i], plane.lo[k] + plane.len[k] - r[i]);
             const double worst = worst_overlap_at(i, c, i);
-            if (worst < best_worst) { best_worst = worst; best[0] = c[0]; best[1] = c[1]; }
+            if (worst < best_worst) {
+                best_worst = worst;
+                best[0] = c[0];
+                best[1] = c[1];
+            }
             if (worst == 0) break;
         }
         x[i] = {best[0], best[1]};
@@ -169,8 +189,7 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
         grid.clear();
         for (std::size_t i = 0; i < n; ++i) grid.insert(static_cast<int>(i), x[i].data());
         double worst = 0;
-        for (std::size_t i = 0; i < n; ++i)
-            worst = std::max(worst, worst_overlap_at(i, x[i].data(), n));
+        for (std::size_t i = 0; i < n; ++i) worst = std::max(worst, worst_overlap_at(i, x[i].data(), n));
         out.max_overlap_ratio = worst;
         if (worst < options.overlap_tolerance) break;
         if (out.sweeps >= options.max_sweeps)
@@ -189,7 +208,10 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
                 // Push past contact by the overlap, at most 0.1 of the smaller radius (over-relaxation).
                 const double push = overlap + std::min(overlap, 0.1 * std::min(r[i], r[j]));
                 double e[2] = {1, 0};
-                if (dist > 0) { e[0] = d[0] / dist; e[1] = d[1] / dist; }
+                if (dist > 0) {
+                    e[0] = d[0] / dist;
+                    e[1] = d[1] / dist;
+                }
                 const double wi = w[j] / (w[i] + w[j]);
                 for (int k = 0; k < 2; ++k) {
                     x[i][k] -= e[k] * push * wi;

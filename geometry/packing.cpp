@@ -49,8 +49,10 @@ struct GridAxis {
         int m = 0;
         for (int d = -1; d <= 1; ++d) {
             int j = i + d;
-            if (wrap) j = (j + n) % n;
-            else if (j < 0 || j >= n) continue;
+            if (wrap)
+                j = (j + n) % n;
+            else if (j < 0 || j >= n)
+                continue;
             out[m++] = j;
         }
         return m;
@@ -101,17 +103,15 @@ private:
 // Rejects inputs the packer cannot honour, with messages that say what to change.
 void validate(const Region& region, const Domain& domain, double volume_fraction) {
     if (!(volume_fraction > 0.0) || volume_fraction > kRandomClosePacking)
-        throw std::invalid_argument(
-            "random_packing: volume fraction " + fmt(volume_fraction) +
-            " is outside (0, 0.64]; 0.64 is random close packing of spheres, above it a random "
-            "packing cannot exist (use lattice_packing for denser ordered packings)");
+        throw std::invalid_argument("random_packing: volume fraction " + fmt(volume_fraction) +
+                                    " is outside (0, 0.64]; 0.64 is random close packing of spheres, above it a random "
+                                    "packing cannot exist (use lattice_packing for denser ordered packings)");
     for (int k = 0; k < 3; ++k) {
         if (!domain.periodic[k] || region.wraps(k, domain)) continue;
         const double tol = 1e-12 * (domain.hi[k] - domain.lo[k]);
         if (region.bbox_lo()[k] < domain.lo[k] - tol || region.bbox_hi()[k] > domain.hi[k] + tol)
-            throw std::invalid_argument(
-                "random_packing: on periodic axis " + std::to_string(k) +
-                " the region must either span the whole period or lie inside the domain");
+            throw std::invalid_argument("random_packing: on periodic axis " + std::to_string(k) +
+                                        " the region must either span the whole period or lie inside the domain");
     }
 }
 
@@ -156,7 +156,10 @@ public:
             for (int t = 0; t < kInsertionTries && best_ratio > 0.0; ++t) {
                 const Vec3 c = region_.sample_centre(rad_[i], domain_, rng_);
                 const double ratio = worst_overlap_with_placed(c, i, best_ratio);
-                if (ratio < best_ratio) { best_ratio = ratio; best = c; }
+                if (ratio < best_ratio) {
+                    best_ratio = ratio;
+                    best = c;
+                }
             }
             pos_[i] = best;
             grids_[band_[i]].insert(i, best, next_);
@@ -243,9 +246,7 @@ private:
         for (int i = 0; i < size(); ++i) grids_[band_[i]].insert(i, pos_[i], next_);
     }
 
-    static double overlap_ratio(double overlap, double ri, double rj) {
-        return overlap / std::min(ri, rj);
-    }
+    static double overlap_ratio(double overlap, double ri, double rj) { return overlap / std::min(ri, rj); }
 
     // Worst overlap ratio of a trial grain i at c against the grains already placed (all in
     // band_[i] or coarser, as placement goes largest first). Stops once above `bound`.
@@ -287,8 +288,7 @@ private:
                 const double reach = rad_[i] + rad_[j];
                 const Vec3 d = separation(pos_[i], pos_[j]);
                 const double d2 = norm2(d);
-                if (d2 < reach * reach)
-                    worst = std::max(worst, overlap_ratio(reach - std::sqrt(d2), rad_[i], rad_[j]));
+                if (d2 < reach * reach) worst = std::max(worst, overlap_ratio(reach - std::sqrt(d2), rad_[i], rad_[j]));
             });
         return worst;
     }
@@ -343,8 +343,10 @@ private:
         Vec3 d = b - a;
         for (int k = 0; k < 3; ++k) {
             if (!domain_.periodic[k]) continue;
-            if (d[k] > half_period_[k]) d[k] -= period_[k];
-            else if (d[k] < -half_period_[k]) d[k] += period_[k];
+            if (d[k] > half_period_[k])
+                d[k] -= period_[k];
+            else if (d[k] < -half_period_[k])
+                d[k] += period_[k];
         }
         return d;
     }
@@ -375,9 +377,8 @@ private:
 
 }  // namespace
 
-PackingResult random_packing(const Region& region, const Domain& domain,
-                             const SizeDistribution& sizes, double volume_fraction, Rng& rng,
-                             const PackingOptions& options) {
+PackingResult random_packing(const Region& region, const Domain& domain, const SizeDistribution& sizes,
+                             double volume_fraction, Rng& rng, const PackingOptions& options) {
     validate(region, domain, volume_fraction);
     validate_sizes(region, domain, sizes.max_diameter());
     const double region_volume = region.volume(domain);
@@ -390,12 +391,11 @@ PackingResult random_packing(const Region& region, const Domain& domain,
     packer.insert_all();
     const int sweeps = packer.relax(options.overlap_tolerance, options.max_sweeps);
     if (sweeps < 0)
-        throw std::runtime_error(
-            "random_packing: could not reach volume fraction " + fmt(volume_fraction) +
-            " (worst overlap / radius still " + fmt(packer.final_ratio()) + " after " +
-            std::to_string(options.max_sweeps) +
-            " sweeps); try a lower volume fraction (random close packing is ~0.64, less near "
-            "walls and for narrow size spreads)");
+        throw std::runtime_error("random_packing: could not reach volume fraction " + fmt(volume_fraction) +
+                                 " (worst overlap / radius still " + fmt(packer.final_ratio()) + " after " +
+                                 std::to_string(options.max_sweeps) +
+                                 " sweeps); try a lower volume fraction (random close packing is ~0.64, less near "
+                                 "walls and for narrow size spreads)");
 
     result.spheres = packer.spheres();
     double solid = 0.0;
@@ -431,19 +431,18 @@ LatticeCell lattice_cell(const std::string& name) {
         const double b = std::sqrt(3.0), c = 2.0 * std::sqrt(2.0 / 3.0);
         return {{1, b, c}, {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 1.0 / 6.0, 0.5}, {0, 2.0 / 3.0, 0.5}}};
     }
-    throw std::invalid_argument("lattice_packing: unknown lattice '" + name +
-                                "' (use cubic, bcc, fcc or hcp)");
+    throw std::invalid_argument("lattice_packing: unknown lattice '" + name + "' (use cubic, bcc, fcc or hcp)");
 }
 
 }  // namespace
 
-std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, double diameter,
-                                    double spacing, const std::string& lattice) {
+std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, double diameter, double spacing,
+                                    const std::string& lattice) {
     if (!(diameter > 0.0) || !std::isfinite(diameter))
         throw std::invalid_argument("lattice_packing: diameter must be positive");
     if (!(spacing >= diameter * (1.0 - 1e-12)) || !std::isfinite(spacing))
-        throw std::invalid_argument("lattice_packing: spacing " + fmt(spacing) +
-                                    " is below the diameter " + fmt(diameter) + "; spheres would overlap");
+        throw std::invalid_argument("lattice_packing: spacing " + fmt(spacing) + " is below the diameter " +
+                                    fmt(diameter) + "; spheres would overlap");
     const LatticeCell cell = lattice_cell(lattice);
     const double r = 0.5 * diameter;
     const Vec3 P = cell.period * spacing;
@@ -475,8 +474,7 @@ std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, 
         for (long iy = 0; iy < count[1]; ++iy)
             for (long ix = 0; ix < count[0]; ++ix)
                 for (const Vec3& f : cell.basis) {
-                    const Vec3 idx{static_cast<double>(ix), static_cast<double>(iy),
-                                   static_cast<double>(iz)};
+                    const Vec3 idx{static_cast<double>(ix), static_cast<double>(iy), static_cast<double>(iz)};
                     Vec3 c;
                     for (int k = 0; k < 3; ++k) c[k] = origin[k] + (idx[k] + f[k]) * P[k];
                     if (!region.contains_sphere(c, r, domain)) continue;

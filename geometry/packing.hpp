@@ -54,9 +54,8 @@ struct PackingResult {
 // spheres), a largest grain that does not fit in the region or whose diameter exceeds half a
 // period, or a region that neither spans nor lies within a periodic axis of the domain.
 // Throws std::runtime_error if options.max_sweeps sweeps do not reach the tolerance.
-PackingResult random_packing(const Region& region, const Domain& domain,
-                             const SizeDistribution& sizes, double volume_fraction, Rng& rng,
-                             const PackingOptions& options = {});
+PackingResult random_packing(const Region& region, const Domain& domain, const SizeDistribution& sizes,
+                             double volume_fraction, Rng& rng, const PackingOptions& options = {});
 
 // Spheres of `diameter` on the sites of a lattice whose nearest-neighbour centre distance is
 // `spacing`, keeping only spheres fully inside the region. Lattices: "cubic" (simple cubic),
@@ -65,7 +64,7 @@ PackingResult random_packing(const Region& region, const Domain& domain,
 // periods are laid along the period so images never come closer than `spacing`. Throws
 // std::invalid_argument for an unknown lattice, diameter <= 0, spacing < diameter, or a period
 // shorter than one lattice period.
-std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, double diameter,
-                                    double spacing, const std::string& lattice);
+std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, double diameter, double spacing,
+                                    const std::string& lattice);
 
 }  // namespace mrjam

@@ -25,8 +25,8 @@ double wrap_coordinate(double x, double lo, double hi) {
 Region Region::box(const Vec3& lo, const Vec3& hi) {
     for (int k = 0; k < 3; ++k)
         if (!(hi[k] > lo[k]) || !std::isfinite(lo[k]) || !std::isfinite(hi[k]))
-            throw std::invalid_argument("Region::box: hi must exceed lo on every axis (axis " +
-                                        std::to_string(k) + ")");
+            throw std::invalid_argument("Region::box: hi must exceed lo on every axis (axis " + std::to_string(k) +
+                                        ")");
     Region r;
     r.kind = Kind::box;
     r.lo = lo;
@@ -35,8 +35,7 @@ Region Region::box(const Vec3& lo, const Vec3& hi) {
 }
 
 Region Region::cylinder(const Vec3& base_centre, int axis, double radius, double length) {
-    if (axis < 0 || axis > 2)
-        throw std::invalid_argument("Region::cylinder: axis must be 0 (x), 1 (y) or 2 (z)");
+    if (axis < 0 || axis > 2) throw std::invalid_argument("Region::cylinder: axis must be 0 (x), 1 (y) or 2 (z)");
     if (!(radius > 0.0) || !(length > 0.0) || !std::isfinite(radius) || !std::isfinite(length))
         throw std::invalid_argument("Region::cylinder: radius and length must be positive");
     Region r;
@@ -129,8 +128,7 @@ Vec3 Region::sample_centre(double r, const Domain& domain, Rng& rng) const {
     Vec3 c;
     if (kind == Kind::box) {
         for (int k = 0; k < 3; ++k)
-            c[k] = wraps(k, domain) ? rng.uniform(domain.lo[k], domain.hi[k])
-                                    : rng.uniform(lo[k] + r, hi[k] - r);
+            c[k] = wraps(k, domain) ? rng.uniform(domain.lo[k], domain.hi[k]) : rng.uniform(lo[k] + r, hi[k] - r);
         return c;
     }
     // Uniform in the disc of radius R - r: the radius goes as sqrt(u) for uniform area density.
@@ -151,9 +149,8 @@ Vec3 Region::clamp_centre(const Vec3& c, double r, const Domain& domain) const {
                                       : std::clamp(c[k], lo[k] + r, hi[k] - r);
         return out;
     }
-    out[axis] = wraps(axis, domain)
-                    ? wrap_coordinate(c[axis], domain.lo[axis], domain.hi[axis])
-                    : std::clamp(c[axis], base[axis] + r, base[axis] + length - r);
+    out[axis] = wraps(axis, domain) ? wrap_coordinate(c[axis], domain.lo[axis], domain.hi[axis])
+                                    : std::clamp(c[axis], base[axis] + r, base[axis] + length - r);
     const int u = other_axis(axis, 0), v = other_axis(axis, 1);
     const double du = c[u] - base[u], dv = c[v] - base[v];
     const double rho = std::sqrt(du * du + dv * dv);

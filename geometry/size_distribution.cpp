@@ -39,8 +39,8 @@ std::vector<double> running_sum(const std::vector<double>& fractions) {
 
 void require_positive(double v, const char* what) {
     if (!(v > 0.0) || !std::isfinite(v))
-        throw std::invalid_argument(std::string("SizeDistribution: ") + what +
-                                    " must be positive and finite (got " + std::to_string(v) + ")");
+        throw std::invalid_argument(std::string("SizeDistribution: ") + what + " must be positive and finite (got " +
+                                    std::to_string(v) + ")");
 }
 
 }  // namespace
@@ -68,8 +68,8 @@ SizeDistribution SizeDistribution::single(double diameter) {
     return s;
 }
 
-SizeDistribution SizeDistribution::lognormal(double median_diameter, double sigma_ln,
-                                             double min_diameter, double max_diameter) {
+SizeDistribution SizeDistribution::lognormal(double median_diameter, double sigma_ln, double min_diameter,
+                                             double max_diameter) {
     require_positive(median_diameter, "lognormal median diameter");
     require_positive(sigma_ln, "lognormal sigma_ln (use single() for one size)");
     require_positive(min_diameter, "lognormal min diameter");
@@ -90,14 +90,12 @@ SizeDistribution SizeDistribution::lognormal(double median_diameter, double sigm
     return s;
 }
 
-SizeDistribution SizeDistribution::table(std::vector<double> diameters,
-                                         std::vector<double> frequencies, FrequencyBasis basis) {
-    if (diameters.empty())
-        throw std::invalid_argument("SizeDistribution::table: the table is empty");
+SizeDistribution SizeDistribution::table(std::vector<double> diameters, std::vector<double> frequencies,
+                                         FrequencyBasis basis) {
+    if (diameters.empty()) throw std::invalid_argument("SizeDistribution::table: the table is empty");
     if (diameters.size() != frequencies.size())
-        throw std::invalid_argument("SizeDistribution::table: " + std::to_string(diameters.size()) +
-                                    " diameters but " + std::to_string(frequencies.size()) +
-                                    " frequencies");
+        throw std::invalid_argument("SizeDistribution::table: " + std::to_string(diameters.size()) + " diameters but " +
+                                    std::to_string(frequencies.size()) + " frequencies");
     double total = 0.0;
     for (std::size_t i = 0; i < diameters.size(); ++i) {
         if (!(diameters[i] > 0.0) || !std::isfinite(diameters[i]))
@@ -105,12 +103,10 @@ SizeDistribution SizeDistribution::table(std::vector<double> diameters,
                                         " is not positive (" + std::to_string(diameters[i]) + ")");
         if (!(frequencies[i] >= 0.0) || !std::isfinite(frequencies[i]))
             throw std::invalid_argument("SizeDistribution::table: frequency #" + std::to_string(i) +
-                                        " is negative or not finite (" +
-                                        std::to_string(frequencies[i]) + ")");
+                                        " is negative or not finite (" + std::to_string(frequencies[i]) + ")");
         total += frequencies[i];
     }
-    if (total == 0.0)
-        throw std::invalid_argument("SizeDistribution::table: all frequencies are zero");
+    if (total == 0.0) throw std::invalid_argument("SizeDistribution::table: all frequencies are zero");
 
     if (basis == FrequencyBasis::volume) {
         // A volume share f_i is carried by grains of volume ∝ d_i^3, so their count ∝ f_i/d_i^3.
@@ -128,8 +124,7 @@ SizeDistribution SizeDistribution::table(std::vector<double> diameters,
     return s;
 }
 
-SizeDistribution SizeDistribution::mixture(
-    const std::vector<std::pair<SizeDistribution, double>>& parts) {
+SizeDistribution SizeDistribution::mixture(const std::vector<std::pair<SizeDistribution, double>>& parts) {
     if (parts.empty()) throw std::invalid_argument("SizeDistribution::mixture: no parts");
     double share_total = 0.0;
     for (const auto& [part, share] : parts) {
@@ -137,8 +132,7 @@ SizeDistribution SizeDistribution::mixture(
             throw std::invalid_argument("SizeDistribution::mixture: a volume share is negative or not finite");
         share_total += share;
     }
-    if (share_total == 0.0)
-        throw std::invalid_argument("SizeDistribution::mixture: all volume shares are zero");
+    if (share_total == 0.0) throw std::invalid_argument("SizeDistribution::mixture: all volume shares are zero");
 
     // A part holding volume share w with mean grain volume V contributes w / V grains per unit
     // of solid volume; that is its number weight. Within a part, its own weights carry over.
@@ -153,8 +147,7 @@ SizeDistribution SizeDistribution::mixture(
             const double w = part_weight * part.weights_[c];
             weight_total += w;
             if (const auto* d = std::get_if<Discrete>(&part.components_[c])) {
-                for (std::size_t i = 0; i < d->diameters.size(); ++i)
-                    discrete[d->diameters[i]] += w * d->fractions[i];
+                for (std::size_t i = 0; i < d->diameters.size(); ++i) discrete[d->diameters[i]] += w * d->fractions[i];
             } else {
                 others.push_back(part.components_[c]);
                 other_weights.push_back(w);
@@ -166,7 +159,11 @@ SizeDistribution SizeDistribution::mixture(
     if (!discrete.empty()) {
         std::vector<double> ds, fs;
         double w = 0.0;
-        for (const auto& [d, f] : discrete) { ds.push_back(d); fs.push_back(f); w += f; }
+        for (const auto& [d, f] : discrete) {
+            ds.push_back(d);
+            fs.push_back(f);
+            w += f;
+        }
         s.components_.emplace_back(make_discrete(std::move(ds), std::move(fs)));
         s.weights_.push_back(w / weight_total);
     }
@@ -198,14 +195,12 @@ double SizeDistribution::sample(Rng& rng) const {
 }
 
 double SizeDistribution::component_min(const Component& c) {
-    if (const auto* d = std::get_if<Discrete>(&c))
-        return *std::min_element(d->diameters.begin(), d->diameters.end());
+    if (const auto* d = std::get_if<Discrete>(&c)) return *std::min_element(d->diameters.begin(), d->diameters.end());
     return std::get<Lognormal>(c).min_d;
 }
 
 double SizeDistribution::component_max(const Component& c) {
-    if (const auto* d = std::get_if<Discrete>(&c))
-        return *std::max_element(d->diameters.begin(), d->diameters.end());
+    if (const auto* d = std::get_if<Discrete>(&c)) return *std::max_element(d->diameters.begin(), d->diameters.end());
     return std::get<Lognormal>(c).max_d;
 }
 
@@ -224,8 +219,7 @@ double SizeDistribution::max_diameter() const {
 double SizeDistribution::component_moment(const Component& c, int k) {
     if (const auto* d = std::get_if<Discrete>(&c)) {
         double m = 0.0;
-        for (std::size_t i = 0; i < d->diameters.size(); ++i)
-            m += d->fractions[i] * std::pow(d->diameters[i], k);
+        for (std::size_t i = 0; i < d->diameters.size(); ++i) m += d->fractions[i] * std::pow(d->diameters[i], k);
         return m;
     }
     // Truncated lognormal: E[d^k] = exp(k mu + k^2 s^2 / 2) * P(a - ks < Z < b - ks) / P(a < Z < b)
@@ -234,14 +228,12 @@ double SizeDistribution::component_moment(const Component& c, int k) {
     const double a = (std::log(ln.min_d) - ln.mu) / ln.sigma;
     const double b = (std::log(ln.max_d) - ln.mu) / ln.sigma;
     const double ks = k * ln.sigma;
-    return std::exp(k * ln.mu + 0.5 * ks * ks) * normal_interval(a - ks, b - ks) /
-           normal_interval(a, b);
+    return std::exp(k * ln.mu + 0.5 * ks * ks) * normal_interval(a - ks, b - ks) / normal_interval(a, b);
 }
 
 double SizeDistribution::moment(int k) const {
     double m = 0.0;
-    for (std::size_t c = 0; c < components_.size(); ++c)
-        m += weights_[c] * component_moment(components_[c], k);
+    for (std::size_t c = 0; c < components_.size(); ++c) m += weights_[c] * component_moment(components_[c], k);
     return m;
 }
 
@@ -254,8 +246,8 @@ std::vector<double> SizeDistribution::sample_for_volume(double solid_volume, Rng
         throw std::invalid_argument("SizeDistribution::sample_for_volume: solid volume must be >= 0");
     const double expected = solid_volume / mean_particle_volume();
     if (expected > 1e8)
-        throw std::invalid_argument("SizeDistribution::sample_for_volume: about " +
-                                    std::to_string(expected) + " grains requested; limit is 1e8");
+        throw std::invalid_argument("SizeDistribution::sample_for_volume: about " + std::to_string(expected) +
+                                    " grains requested; limit is 1e8");
     std::vector<double> out;
     out.reserve(static_cast<std::size_t>(expected * 1.1) + 1);
     double total = 0.0;
@@ -280,8 +272,7 @@ bool SizeDistribution::is_discrete() const {
 
 std::vector<SizeDistribution::SizeClass> SizeDistribution::discrete_classes() const {
     // Mixtures merge all discrete parts into one component, so "discrete" means exactly one.
-    if (!is_discrete())
-        throw std::logic_error("SizeDistribution::discrete_classes: distribution has a lognormal part");
+    if (!is_discrete()) throw std::logic_error("SizeDistribution::discrete_classes: distribution has a lognormal part");
     const auto& d = std::get<Discrete>(components_[0]);
     std::vector<SizeClass> out;
     for (std::size_t i = 0; i < d.diameters.size(); ++i) out.push_back({d.diameters[i], d.fractions[i]});

@@ -32,8 +32,8 @@ public:
     // [min_diameter, max_diameter] (sampled by rejection). Throws std::invalid_argument for
     // non-positive sizes or sigma, min >= max, or a window holding under 0.1% of the
     // untruncated distribution (rejection would then be hopelessly slow).
-    static SizeDistribution lognormal(double median_diameter, double sigma_ln,
-                                      double min_diameter, double max_diameter);
+    static SizeDistribution lognormal(double median_diameter, double sigma_ln, double min_diameter,
+                                      double max_diameter);
 
     // Discrete size classes, e.g. a digitised laser-diffraction table: each listed diameter is a
     // class. Volume frequencies are converted to number frequencies n_i ∝ f_i / d_i^3.
@@ -41,8 +41,7 @@ public:
     // diameter describe grains that can actually be drawn). Throws std::invalid_argument for an
     // empty table, size mismatch, non-positive or non-finite diameter, negative or non-finite
     // frequency, or all-zero frequencies.
-    static SizeDistribution table(std::vector<double> diameters, std::vector<double> frequencies,
-                                  FrequencyBasis basis);
+    static SizeDistribution table(std::vector<double> diameters, std::vector<double> frequencies, FrequencyBasis basis);
 
     // Parts weighted by their share of SOLID VOLUME (e.g. {{fine, 33}, {coarse, 67}}); shares
     // need not sum to 1. Any kind of part is supported exactly, lognormal ones included: a

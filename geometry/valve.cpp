@@ -17,7 +17,8 @@ double ValveGeometry::passage_radius(double z) const {
 }
 
 SlotOrifice ValveGeometry::slot() const {
-    return SlotOrifice{bore_radius(), 0.5 * slot_width, throat_radius(), taper_start_z(), -0.5 * throat_length, throat_end_z()};
+    return SlotOrifice{bore_radius(),   0.5 * slot_width,     throat_radius(),
+                       taper_start_z(), -0.5 * throat_length, throat_end_z()};
 }
 
 double ValveGeometry::passage_half_height(double z) const {
@@ -51,7 +52,11 @@ double ValveGeometry::fluid_volume() const {
 std::vector<std::string> ValveGeometry::problems() const {
     std::vector<std::string> out;
     auto say = [&out](const std::string& field, const std::string& what) { out.push_back(field + ": " + what); };
-    auto mm = [](double v) { std::ostringstream s; s << v * 1e3 << " mm"; return s.str(); };
+    auto mm = [](double v) {
+        std::ostringstream s;
+        s << v * 1e3 << " mm";
+        return s.str();
+    };
     if (!(tube_inner_diameter > 0)) say("tube_inner_diameter", "must be positive");
     if (!(wall_thickness > 0)) say("wall_thickness", "must be positive (the valve body needs a wall)");
     if (!(constriction_diameter > 0)) say("constriction_diameter", "must be positive");
@@ -63,9 +68,10 @@ std::vector<std::string> ValveGeometry::problems() const {
         if (!(slot_width > 0))
             say("slot_width", "a slot orifice needs its width across the field (x), e.g. \"0.6 mm\"");
         else if (std::hypot(slot_width, constriction_diameter) >= tube_inner_diameter)
-            say("slot_width", "the slot " + mm(slot_width) + " x " + mm(constriction_diameter) + " does not fit inside the bore " +
-                                  mm(tube_inner_diameter) + " (its diagonal " + mm(std::hypot(slot_width, constriction_diameter)) +
-                                  " must be shorter than the bore); narrow the slot or its height (constriction_diameter)");
+            say("slot_width",
+                "the slot " + mm(slot_width) + " x " + mm(constriction_diameter) + " does not fit inside the bore " +
+                    mm(tube_inner_diameter) + " (its diagonal " + mm(std::hypot(slot_width, constriction_diameter)) +
+                    " must be shorter than the bore); narrow the slot or its height (constriction_diameter)");
     } else if (slot_width != 0) {
         say("slot_width", "is for a slot orifice; set \"orifice\": \"slot\" or drop slot_width");
     }
@@ -73,9 +79,11 @@ std::vector<std::string> ValveGeometry::problems() const {
         say("constriction_diameter", mm(constriction_diameter) + " is not narrower than the tube bore " +
                                          mm(tube_inner_diameter) + "; make it smaller than the bore");
     if (!(upstream_length > -taper_start_z()))
-        say("upstream_length", "must reach beyond the taper start (" + mm(-taper_start_z()) + " upstream of the throat centre)");
+        say("upstream_length",
+            "must reach beyond the taper start (" + mm(-taper_start_z()) + " upstream of the throat centre)");
     if (!(downstream_length > throat_end_z()))
-        say("downstream_length", "must reach beyond the throat exit (" + mm(throat_end_z()) + " downstream of the throat centre)");
+        say("downstream_length",
+            "must reach beyond the throat exit (" + mm(throat_end_z()) + " downstream of the throat centre)");
     return out;
 }
 

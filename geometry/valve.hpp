@@ -23,14 +23,14 @@ enum class Orifice { circular, slot };
 
 struct ValveGeometry {
     Orifice orifice = Orifice::circular;
-    double tube_inner_diameter = 2.6e-3;    // bore of the valve body
-    double wall_thickness = 0.3e-3;         // printed wall: the body's 3.2 mm outside fills the magnet gap
-    double constriction_diameter = 1.32e-3; // throat (the source's 30x preset: 30 x 44 um)
-    double taper_length = 0.8e-3;           // converging cone, bore -> throat
-    double throat_length = 0.2e-3;          // straight part at the throat diameter
-    double upstream_length = 4.0e-3;        // fluid modelled upstream of the throat centre
-    double downstream_length = 4.0e-3;      // and downstream of it
-    double slot_width = 0;                  // slot only: its size along x (its height along y is constriction_diameter)
+    double tube_inner_diameter = 2.6e-3;     // bore of the valve body
+    double wall_thickness = 0.3e-3;          // printed wall: the body's 3.2 mm outside fills the magnet gap
+    double constriction_diameter = 1.32e-3;  // throat (the source's 30x preset: 30 x 44 um)
+    double taper_length = 0.8e-3;            // converging cone, bore -> throat
+    double throat_length = 0.2e-3;           // straight part at the throat diameter
+    double upstream_length = 4.0e-3;         // fluid modelled upstream of the throat centre
+    double downstream_length = 4.0e-3;       // and downstream of it
+    double slot_width = 0;  // slot only: its size along x (its height along y is constriction_diameter)
 
     double outer_diameter() const { return tube_inner_diameter + 2.0 * wall_thickness; }
     double bore_radius() const { return 0.5 * tube_inner_diameter; }

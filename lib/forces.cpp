@@ -261,8 +261,10 @@ void compute_all(System& s, bool zero_first) {
     std::vector<std::vector<Vec3>> wall_force(nthreads, std::vector<Vec3>(s.walls.size()));
     for (auto& w : s.walls) w.history.resize(n);
     const FlowLookup lookup = flow_lookup_this_step(s);
-    if (lookup == FlowLookup::fresh_and_hold) s.held_flow.at.resize(n);
-    else if (lookup == FlowLookup::fresh) s.held_flow.at.clear();
+    if (lookup == FlowLookup::fresh_and_hold)
+        s.held_flow.at.resize(n);
+    else if (lookup == FlowLookup::fresh)
+        s.held_flow.at.clear();
 
 #pragma omp parallel num_threads(nthreads)
     {
@@ -282,8 +284,10 @@ void compute_all(System& s, bool zero_first) {
             // cost a quarter of a two-thread step whenever the compiler left them in memory
             // (docs/benchmarks.md, "Counts that shared a cache line").
             ContactStats stats;
-            if (s.domain.lees_edwards) grain_contacts<Rolling, Cohesion, true>(s, f, t, stats, b.raft_force[tid], begin, end);
-            else grain_contacts<Rolling, Cohesion, false>(s, f, t, stats, b.raft_force[tid], begin, end);
+            if (s.domain.lees_edwards)
+                grain_contacts<Rolling, Cohesion, true>(s, f, t, stats, b.raft_force[tid], begin, end);
+            else
+                grain_contacts<Rolling, Cohesion, false>(s, f, t, stats, b.raft_force[tid], begin, end);
             wall_contacts<Rolling, Cohesion>(s, f, t, stats, wall_force[tid], b.raft_force[tid], begin, end);
             b.stats[tid] = stats;
         }
@@ -317,17 +321,23 @@ void compute_all(System& s, bool zero_first) {
 template <RollingModel Rolling>
 void dispatch_cohesion(System& s, bool zero_first) {
     switch (s.physics.cohesion) {
-        case CohesionModel::none: return compute_all<Rolling, CohesionModel::none>(s, zero_first);
-        case CohesionModel::sjkr: return compute_all<Rolling, CohesionModel::sjkr>(s, zero_first);
-        case CohesionModel::dmt: return compute_all<Rolling, CohesionModel::dmt>(s, zero_first);
+        case CohesionModel::none:
+            return compute_all<Rolling, CohesionModel::none>(s, zero_first);
+        case CohesionModel::sjkr:
+            return compute_all<Rolling, CohesionModel::sjkr>(s, zero_first);
+        case CohesionModel::dmt:
+            return compute_all<Rolling, CohesionModel::dmt>(s, zero_first);
     }
 }
 
 void dispatch(System& s, bool zero_first) {
     switch (s.physics.rolling) {
-        case RollingModel::none: return dispatch_cohesion<RollingModel::none>(s, zero_first);
-        case RollingModel::epsd: return dispatch_cohesion<RollingModel::epsd>(s, zero_first);
-        case RollingModel::sds: return dispatch_cohesion<RollingModel::sds>(s, zero_first);
+        case RollingModel::none:
+            return dispatch_cohesion<RollingModel::none>(s, zero_first);
+        case RollingModel::epsd:
+            return dispatch_cohesion<RollingModel::epsd>(s, zero_first);
+        case RollingModel::sds:
+            return dispatch_cohesion<RollingModel::sds>(s, zero_first);
     }
 }
 

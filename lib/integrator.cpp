@@ -133,8 +133,8 @@ bool magnet_list_due(const System& s) {
 std::string describe_grain(const System& s, std::size_t i) {
     std::ostringstream out;
     const Particles& p = s.particles;
-    out << "grain " << p.id[i] << " (radius " << p.radius[i] << " m, at " << p.position[i].x << ", "
-        << p.position[i].y << ", " << p.position[i].z << ")";
+    out << "grain " << p.id[i] << " (radius " << p.radius[i] << " m, at " << p.position[i].x << ", " << p.position[i].y
+        << ", " << p.position[i].z << ")";
     return out.str();
 }
 
@@ -142,12 +142,15 @@ void fail_overlap(const System& s) {
     const ContactStats& st = s.contact_stats;
     std::ostringstream out;
     out << "blow-up at step " << s.step << " (t = " << s.time << " s): " << describe_grain(s, st.worst_i)
-        << " overlaps " << (st.worst_is_wall ? "wall '" + s.walls[st.worst_j].name + "'" : describe_grain(s, st.worst_j))
-        << " by " << st.max_overlap_ratio << " of the smaller radius (limit " << s.max_overlap_fraction
+        << " overlaps "
+        << (st.worst_is_wall ? "wall '" + s.walls[st.worst_j].name + "'" : describe_grain(s, st.worst_j)) << " by "
+        << st.max_overlap_ratio << " of the smaller radius (limit " << s.max_overlap_fraction
         << "). Likely causes: impacts too fast for the Young's modulus (the Hertz overlap of an "
            "impact grows as R (rho v^2 / Y)^(2/5), whatever the step: raise youngs_modulus or "
            "lower the speeds), loads (cohesion, magnetic, gravity, a fast wall) the modulus cannot "
-           "hold, or a time step (" << s.dt << " s) too long for the contact stiffness; or raise "
+           "hold, or a time step ("
+        << s.dt
+        << " s) too long for the contact stiffness; or raise "
            "run.max_overlap_fraction if large overlaps are intended.";
     throw BlowUp(out.str());
 }
@@ -193,8 +196,9 @@ void advance_steps(System& s, long count) {
         accumulate_forces(s);
         if (s.contact_stats.max_overlap_ratio > s.max_overlap_fraction) fail_overlap(s);
         const bool more = c + 1 < count;
-        const std::size_t bad = planar ? (more ? kick_pass<true, true, true>(s, rebuild) : kick_pass<true, false, true>(s, rebuild))
-                                       : (more ? kick_pass<true, true, false>(s, rebuild) : kick_pass<true, false, false>(s, rebuild));
+        const std::size_t bad =
+            planar ? (more ? kick_pass<true, true, true>(s, rebuild) : kick_pass<true, false, true>(s, rebuild))
+                   : (more ? kick_pass<true, true, false>(s, rebuild) : kick_pass<true, false, false>(s, rebuild));
         if (bad < s.particles.size()) fail_grain(s, bad);
     }
 }

@@ -14,7 +14,8 @@ EnergyBreakdown energy(const System& s) {
         e.rotational += 0.5 * p.inertia[i] * norm2(p.angular_velocity[i]);
         if (s.physics.gravity) {
             const double volume = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
-            e.gravitational -= (p.mass[i] - s.physics.fluid_density * volume) * dot(s.physics.gravity_acceleration, p.position[i]);
+            e.gravitational -=
+                (p.mass[i] - s.physics.fluid_density * volume) * dot(s.physics.gravity_acceleration, p.position[i]);
         }
     }
     if (s.physics.contact) e.elastic = contact_elastic_energy(s);
@@ -55,20 +56,25 @@ nlohmann::json state_summary(const System& s) {
                          {"steps_with_magnet_off", s.magnetic.skipped_passes},
                          {"update_interval_steps", s.magnetic.settings.update_interval},
                          {"steps_with_held_forces", s.magnetic.held_passes},
-                         {"listed_magnetic_neighbours_per_grain", s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
+                         {"listed_magnetic_neighbours_per_grain",
+                          s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
                          {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},
                          {"applied_field", s.magnetic.field->name()}};
         const ClosePairSettings& cp = s.magnetic.settings.close_pairs;
         j["magnetic"]["close_pairs"] =
-            cp.enabled ? nlohmann::json{{"min_gap_radii", cp.min_gap}, {"range_radii", cp.range},
+            cp.enabled ? nlohmann::json{{"min_gap_radii", cp.min_gap},
+                                        {"range_radii", cp.range},
                                         {"relative_permeability", s.magnetic.close_pair_table.relative_permeability()}}
                        : nlohmann::json(nullptr);
     }
     for (const Raft& r : s.rafts)
-        j["rafts"].push_back({{"name", r.name}, {"grains", r.members}, {"force_N", {r.force.x, r.force.y, r.force.z}},
+        j["rafts"].push_back({{"name", r.name},
+                              {"grains", r.members},
+                              {"force_N", {r.force.x, r.force.y, r.force.z}},
                               {"velocity_m_s", {r.velocity.x, r.velocity.y, r.velocity.z}}});
     for (const Wall& w : s.walls)
-        j["walls"].push_back({{"name", w.name}, {"force_N", {w.force.x, w.force.y, w.force.z}},
+        j["walls"].push_back({{"name", w.name},
+                              {"force_N", {w.force.x, w.force.y, w.force.z}},
                               {"point_m", {w.point.x, w.point.y, w.point.z}}});
     return j;
 }

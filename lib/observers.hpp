@@ -9,8 +9,8 @@ namespace mrjam {
 struct EnergyBreakdown {
     double translational = 0;
     double rotational = 0;
-    double elastic = 0;            // Hertz contacts
-    double gravitational = 0;      // -m g . x (with buoyancy), 0 without gravity
+    double elastic = 0;        // Hertz contacts
+    double gravitational = 0;  // -m g . x (with buoyancy), 0 without gravity
     double total() const { return translational + rotational + elastic + gravitational; }
 };
 

@@ -24,10 +24,10 @@ struct Particles {
     std::vector<double> saturation_moment;    // M_s V: cap on the induced moment's magnitude
     std::vector<Vec3> permanent_moment;       // body frame, A m^2 (a magnetised grain)
     std::vector<Quaternion> orientation;      // body to lab
-    std::vector<std::uint16_t> material;  // index into the scene's material table
-    std::vector<std::uint32_t> groups;    // bit k set: particle belongs to group k
-    std::vector<std::uint64_t> id;        // stable id, survives reordering and restarts
-    std::vector<std::int16_t> raft;       // -1: free; else index of the raft that moves it rigidly
+    std::vector<std::uint16_t> material;      // index into the scene's material table
+    std::vector<std::uint32_t> groups;        // bit k set: particle belongs to group k
+    std::vector<std::uint64_t> id;            // stable id, survives reordering and restarts
+    std::vector<std::int16_t> raft;           // -1: free; else index of the raft that moves it rigidly
 
     std::size_t size() const { return position.size(); }
 
@@ -35,9 +35,23 @@ struct Particles {
     // one when a field is added.
     template <class F>
     void for_each_array(F&& f) {
-        f(position); f(velocity); f(angular_velocity); f(force); f(torque); f(radius); f(mass);
-        f(inertia); f(dipole_moment); f(induced_coefficient); f(saturation_moment); f(permanent_moment);
-        f(orientation); f(material); f(groups); f(id); f(raft);
+        f(position);
+        f(velocity);
+        f(angular_velocity);
+        f(force);
+        f(torque);
+        f(radius);
+        f(mass);
+        f(inertia);
+        f(dipole_moment);
+        f(induced_coefficient);
+        f(saturation_moment);
+        f(permanent_moment);
+        f(orientation);
+        f(material);
+        f(groups);
+        f(id);
+        f(raft);
     }
     template <class F>
     void for_each_array(F&& f) const {

@@ -25,12 +25,13 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
         const Material& mat = s.materials[m];
         const double r = p.radius[i];
         if (s.physics.contact) {
-            const double rayleigh = M_PI * r * std::sqrt(mat.density / mat.shear_modulus()) /
-                                    (0.1631 * mat.poisson_ratio + 0.8766);
+            const double rayleigh =
+                M_PI * r * std::sqrt(mat.density / mat.shear_modulus()) / (0.1631 * mat.poisson_ratio + 0.8766);
             lim.rayleigh = std::min(lim.rayleigh, rayleigh);
             // Two smallest grains of this material meeting head on.
             const double ystar = s.pairs(static_cast<std::uint16_t>(m), static_cast<std::uint16_t>(m)).effective_youngs;
-            lim.hertz = std::min(lim.hertz, hertz_contact_duration(0.5 * p.mass[i], 0.5 * r, ystar, characteristic_speed));
+            lim.hertz =
+                std::min(lim.hertz, hertz_contact_duration(0.5 * p.mass[i], 0.5 * r, ystar, characteristic_speed));
             // Against a wall (R* = R, m* = m): shorter than grain-grain when the wall is stiffer.
             for (const Wall& w : s.walls) {
                 const double ystar_wall = s.pairs(static_cast<std::uint16_t>(m), w.material).effective_youngs;
@@ -42,13 +43,12 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
         // Pair damping relaxes the relative velocity of two smallest grains in m* / c (m* = m/2).
         // Explicit integration is stable up to 2 m* / (z c) with z contacts, so the default
         // safety fraction 0.1 of this time covers up to 20 contacts.
-        if (s.physics.pair_damping > 0)
-            lim.drag = std::min(lim.drag, 0.5 * p.mass[i] / s.physics.pair_damping);
+        if (s.physics.pair_damping > 0) lim.drag = std::min(lim.drag, 0.5 * p.mass[i] / s.physics.pair_damping);
     }
     lim.critical = std::min({lim.rayleigh, lim.hertz, lim.drag});
     lim.limiting = lim.critical == lim.rayleigh ? "Rayleigh time of the smallest grain"
                    : lim.critical == lim.hertz  ? "Hertz contact time of the smallest pair (or grain and wall)"
-                                                : "drag (Stokes, or pair damping) relaxation time of the smallest grain";
+                                               : "drag (Stokes, or pair damping) relaxation time of the smallest grain";
     lim.stable_limit = kMaxStepFraction * lim.critical;
     return lim;
 }

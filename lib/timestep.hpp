@@ -17,9 +17,9 @@ namespace mrjam {
 struct TimestepLimits {
     double rayleigh = 0;
     double hertz = 0;
-    double drag = 0;        // infinity without drag
-    double critical = 0;    // the smallest
-    std::string limiting;   // which of them
+    double drag = 0;          // infinity without drag
+    double critical = 0;      // the smallest
+    std::string limiting;     // which of them
     double stable_limit = 0;  // largest step accepted: max_fraction * critical
 };
 

@@ -74,7 +74,10 @@ bool Wall::touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) cons
     const double s = dot(rel, axis);
     const Vec3 radial = rel - axis * s;
     const double rho = norm(radial);
-    struct Nearest { double d2 = std::numeric_limits<double>::infinity(), pr = 0, ps = 0; bool interior = false; };
+    struct Nearest {
+        double d2 = std::numeric_limits<double>::infinity(), pr = 0, ps = 0;
+        bool interior = false;
+    };
     Nearest best, second;  // the nearest point, and the nearest on another face inside its segment
     for (std::size_t i = 0; i + 1 < profile.size(); ++i) {
         const double ar = profile[i][0], as = profile[i][1];
@@ -98,8 +101,17 @@ bool Wall::touch_passage(const Vec3& x, double r, double& overlap, Vec3& n) cons
     const Vec3 e_r = rho > 0 ? radial * (1.0 / rho) : Vec3{1, 0, 0};
     // From the wall point towards the centre (reversed if the centre went through the wall).
     double nr = rho - best.pr, ns = s - best.ps;
-    if (distance > 0) { nr /= distance; ns /= distance; } else { nr = -1; ns = 0; }
-    if (!centre_inside) { nr = -nr; ns = -ns; }
+    if (distance > 0) {
+        nr /= distance;
+        ns /= distance;
+    } else {
+        nr = -1;
+        ns = 0;
+    }
+    if (!centre_inside) {
+        nr = -nr;
+        ns = -ns;
+    }
     const double second_distance = std::sqrt(second.d2);
     if (centre_inside && best.interior && second_distance < r && second_distance > 0) {
         // In a concave corner: add the second face's penetration vector.

@@ -18,19 +18,19 @@ struct Wall {
     enum class Kind { plane, cylinder, passage, slot_passage };
     std::string name;
     Kind kind = Kind::plane;
-    Vec3 point{};            // plane: a point on it; cylinder: a point on the axis
-    Vec3 normal{0, 0, 1};    // plane: unit normal pointing to the grains' side
-    Vec3 axis{0, 0, 1};      // cylinder: unit axis
-    double radius = 0;       // cylinder radius
-    bool inside = true;      // cylinder: grains held inside
+    Vec3 point{};          // plane: a point on it; cylinder: a point on the axis
+    Vec3 normal{0, 0, 1};  // plane: unit normal pointing to the grains' side
+    Vec3 axis{0, 0, 1};    // cylinder: unit axis
+    double radius = 0;     // cylinder radius
+    bool inside = true;    // cylinder: grains held inside
     // passage: the wall's generatrix in the (radius, axial position) half-plane as a polyline
     // with non-decreasing axial positions, about the axis through `point` along `axis`.
     std::vector<std::array<double, 2>> profile;
-    SlotOrifice slot;        // slot_passage: bore and slot in the valve's frame (axis z through the origin)
-    Vec3 velocity{};         // rigid translation (a moving plane; tangential part drives friction)
+    SlotOrifice slot;  // slot_passage: bore and slot in the valve's frame (axis z through the origin)
+    Vec3 velocity{};   // rigid translation (a moving plane; tangential part drives friction)
     std::uint16_t material = 0;
     std::vector<ContactHistory> history;  // per grain
-    Vec3 force{};            // force the grains exert on the wall, last step
+    Vec3 force{};                         // force the grains exert on the wall, last step
 
     // The grains that may touch the wall before the next neighbour rebuild, found at each rebuild
     // with their radii grown by a margin longer than any grain moves between rebuilds, so the

@@ -1,11 +1,11 @@
 #include "magnetics/bare_magnet.hpp"
 
+#include <gmsh.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
-
-#include <gmsh.h>
 
 #include "magnetics/gmsh_assembly.hpp"
 

@@ -11,9 +11,9 @@
 namespace mrjam::magnetics {
 
 struct BareMagnetMesh {
-    double magnet_size = 0.2e-3;   // elements in and around the magnet
-    double far_size = 4e-3;        // at the air box
-    double air_box = 40e-3;        // cube side
+    double magnet_size = 0.2e-3;  // elements in and around the magnet
+    double far_size = 4e-3;       // at the air box
+    double air_box = 40e-3;       // cube side
 };
 
 struct BareMagnetSolution {

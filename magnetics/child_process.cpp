@@ -1,14 +1,14 @@
 #include "magnetics/child_process.hpp"
 
-#include <chrono>
-#include <csignal>
-#include <stdexcept>
-#include <thread>
-
 #include <fcntl.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <stdexcept>
+#include <thread>
 
 #include "run/interrupt.hpp"
 

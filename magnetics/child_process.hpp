@@ -9,7 +9,7 @@
 namespace mrjam::magnetics {
 
 struct ChildResult {
-    int wait_status = 0;       // as from waitpid
+    int wait_status = 0;         // as from waitpid
     bool stopped_by_us = false;  // mrjam was interrupted (run/interrupt.hpp) and stopped the child
 };
 

@@ -28,8 +28,7 @@ ElementSampler::ElementSampler(ElementField field) : field_(std::move(field)) {
     double volume = 1;
     for (int a = 0; a < dims; ++a) volume *= std::max(extent[a], 1e-30);
     const double side = std::pow(volume / std::max<double>(1.0, 0.5 * static_cast<double>(ne)), 1.0 / dims);
-    for (int a = 0; a < 3; ++a)
-        n_[a] = a < dims ? std::clamp(static_cast<int>(extent[a] / side) + 1, 1, 1024) : 1;
+    for (int a = 0; a < 3; ++a) n_[a] = a < dims ? std::clamp(static_cast<int>(extent[a] / side) + 1, 1, 1024) : 1;
     lo_ = lo;
     cell_ = {extent[0] / n_[0] + 1e-30, extent[1] / n_[1] + 1e-30, dims == 3 ? extent[2] / n_[2] + 1e-30 : 1.0};
 

@@ -14,9 +14,9 @@ namespace mrjam::magnetics {
 // Simplices (tetrahedra, or triangles in the plane z = 0) with one value per vertex. A value is
 // a Vec3 (B) or a scalar stored in x.
 struct ElementField {
-    int vertices = 4;            // 4: tetrahedra; 3: triangles in z = 0
-    std::vector<Vec3> points;    // vertices * elements
-    std::vector<Vec3> values;    // vertices * elements
+    int vertices = 4;          // 4: tetrahedra; 3: triangles in z = 0
+    std::vector<Vec3> points;  // vertices * elements
+    std::vector<Vec3> values;  // vertices * elements
     std::size_t elements() const { return points.size() / static_cast<std::size_t>(vertices); }
     void append(const ElementField& other);
 };

@@ -11,9 +11,12 @@ namespace mrjam::magnetics {
 
 std::string field_model_name(FieldModel m) {
     switch (m) {
-        case FieldModel::circuit: return "circuit";
-        case FieldModel::planar_2d: return "2d";
-        case FieldModel::full_3d: return "3d";
+        case FieldModel::circuit:
+            return "circuit";
+        case FieldModel::planar_2d:
+            return "2d";
+        case FieldModel::full_3d:
+            return "3d";
     }
     return "?";
 }
@@ -25,7 +28,10 @@ std::vector<RegionMaterial> epm_materials(const EpmModel& m, int dim) {
     const auto& mat = m.materials;
     std::vector<RegionMaterial> r;
     if (dim == 3) {
-        r.push_back({region::alnico, "Alnico", mg.alnico.recoil_permeability, {0, mg.alnico_polarity * mg.alnico.remanence, 0}});
+        r.push_back({region::alnico,
+                     "Alnico",
+                     mg.alnico.recoil_permeability,
+                     {0, mg.alnico_polarity * mg.alnico.remanence, 0}});
         r.push_back({region::ndfeb, "NdFeB", mg.ndfeb.recoil_permeability, {0, mg.ndfeb.remanence, 0}});
     } else {
         // The planar model cannot hold two magnets side by side in z: it uses their average over
@@ -48,7 +54,9 @@ std::vector<RegionMaterial> epm_materials(const EpmModel& m, int dim) {
     return r;
 }
 
-int nodes_for(double length, double spacing) { return std::max(2, static_cast<int>(std::lround(length / spacing)) + 1); }
+int nodes_for(double length, double spacing) {
+    return std::max(2, static_cast<int>(std::lround(length / spacing)) + 1);
+}
 
 FieldGrid empty_grid(Vec3 lo, Vec3 hi, std::array<int, 3> count) {
     FieldGrid f;
@@ -90,8 +98,9 @@ FieldGrid fluid_map(const EpmModel& m, int dim, double spacing, const ElementSam
             const double shrink = 1.0 - static_cast<double>(step) / kRaySteps;
             b = fluid.sample({x.x * shrink, x.y * shrink, x.z});
         }
-        if (!b) throw std::runtime_error("field map node (" + format_number(x.x * 1e3) + ", " + format_number(x.y * 1e3) + ", " +
-                                         format_number(x.z * 1e3) + ") mm: no fluid element on its ray to the axis");
+        if (!b)
+            throw std::runtime_error("field map node (" + format_number(x.x * 1e3) + ", " + format_number(x.y * 1e3) +
+                                     ", " + format_number(x.z * 1e3) + ") mm: no fluid element on its ray to the axis");
         value = *b;
     });
     return f;
@@ -185,8 +194,9 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
     out.gradient_b2_max = max_gradient;
     if (dim == 2) {
         out.fluid_map = extrude_planar(out.fluid_map, valve);
-        out.notes.push_back("2d: planar section through the throat; the magnets are averaged over the bracket width, "
-                            "the fluid is the bore disc, the field is taken as invariant along the tube (no end leakage)");
+        out.notes.push_back(
+            "2d: planar section through the throat; the magnets are averaged over the bracket width, "
+            "the fluid is the bore disc, the field is taken as invariant along the tube (no end leakage)");
     }
     return out;
 }

@@ -1,9 +1,9 @@
 #include "magnetics/epm_geometry.hpp"
 
+#include <gmsh.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gmsh.h>
 
 namespace mrjam::magnetics {
 
@@ -11,7 +11,9 @@ namespace occ = gmsh::model::occ;
 
 namespace {
 
-struct Point2 { double x, y; };
+struct Point2 {
+    double x, y;
+};
 
 // A bracket's side profile (x-y plane, upper bracket, y >= gap/2) as a closed polygon, with an
 // optional half-disc cutout in its inner face. Built at z = z0; `sign` = -1 mirrors it to the
@@ -62,18 +64,24 @@ DimTags bracket_pieces(const EpmModel& m, int dim) {
         const double x0 = m.magnet_back_x(), g = 0.5 * m.gap(), span = m.magnets_z_span();
         for (double s : {1.0, -1.0}) {
             const double ylo = s > 0 ? g : -g - b.thickness;
-            if (dim == 3) out.push_back({3, occ::addBox(x0, ylo, -0.5 * span, m.magnets.width, b.thickness, span)});
-            else out.push_back({2, occ::addRectangle(x0, ylo, 0.0, m.magnets.width, b.thickness)});
+            if (dim == 3)
+                out.push_back({3, occ::addBox(x0, ylo, -0.5 * span, m.magnets.width, b.thickness, span)});
+            else
+                out.push_back({2, occ::addRectangle(x0, ylo, 0.0, m.magnets.width, b.thickness)});
         }
         return out;
     }
     const double z0 = dim == 3 ? -0.5 * b.width : 0.0;
     for (double s : {1.0, -1.0}) {
         const int surface = bracket_surface(m, z0, s);
-        if (dim == 2) { out.push_back({2, surface}); continue; }
+        if (dim == 2) {
+            out.push_back({2, surface});
+            continue;
+        }
         DimTags extruded;
         occ::extrude({{2, surface}}, 0, 0, b.width, extruded);
-        for (const auto& e : extruded) if (e.first == 3) out.push_back(e);
+        for (const auto& e : extruded)
+            if (e.first == 3) out.push_back(e);
     }
     return out;
 }
@@ -133,7 +141,10 @@ std::vector<RegionPieces> add_epm_pieces(const EpmModel& m, int dim) {
         return dim == 3 ? std::pair{3, occ::addBox(x, y, -0.5 * w, dx, dy, w)}
                         : std::pair{2, occ::addRectangle(x, y, 0.0, dx, dy)};
     };
-    auto joined = [](DimTags a, const DimTags& b) { a.insert(a.end(), b.begin(), b.end()); return a; };
+    auto joined = [](DimTags a, const DimTags& b) {
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+    };
     // 3D: the passage with its constriction; 2D: the bore disc of the section through the throat.
     const DimTags fluid{dim == 3 ? std::pair{3, fluid_solid(v)} : std::pair{2, occ::addDisk(0, 0, 0, rb, rb)}};
     DimTags inserts;
@@ -149,7 +160,8 @@ std::vector<RegionPieces> add_epm_pieces(const EpmModel& m, int dim) {
                                         : std::pair{2, occ::addDisk(0, 0, 0, ro, ro)}};
     // The inactive air: between the brackets, from the magnets' face to the tube axis plane,
     // outside the valve body and the inserts.
-    const DimTags inactive = cut({section_box(x_inactive, -g, -x_inactive, 2 * g)}, joined(body_outline, inserts), false);
+    const DimTags inactive =
+        cut({section_box(x_inactive, -g, -x_inactive, 2 * g)}, joined(body_outline, inserts), false);
     const DimTags body = cut(body_outline, joined(fluid, inserts), false);
     regions.push_back({region::iron, joined(iron, inserts)});
     if (dim == 3) {
@@ -187,8 +199,10 @@ MeshRequest epm_mesh_request(const EpmModel& m, int dim, const MeshSettings& mes
     const double rb = m.valve.bore_radius(), w = 0.5 * m.bracket.width;
     const double pad = 2.0 * mesh.device_size;
     // Fine elements in the active fluid (and the gap either side of it), medium over the device.
-    request.refinements.push_back({{-rb - pad, -0.5 * m.gap(), -w - pad}, {rb + pad, 0.5 * m.gap(), w + pad},
-                                   mesh.fluid_size, 4.0 * mesh.device_size});
+    request.refinements.push_back({{-rb - pad, -0.5 * m.gap(), -w - pad},
+                                   {rb + pad, 0.5 * m.gap(), w + pad},
+                                   mesh.fluid_size,
+                                   4.0 * mesh.device_size});
     request.refinements.push_back({layout.device_lo - Vec3{pad, pad, pad}, layout.device_hi + Vec3{pad, pad, pad},
                                    mesh.device_size, 0.25 * mesh.air_box});
     return request;

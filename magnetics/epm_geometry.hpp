@@ -24,10 +24,10 @@ inline constexpr int boundary = 10;      // the air box: phi = 0
 
 // Element sizes (the standard tier's defaults; see tier_mesh in magnetics_scene.hpp).
 struct MeshSettings {
-    double fluid_size = 0.2e-3;    // in and around the active fluid
-    double device_size = 0.5e-3;   // magnets, brackets, the tube near them
-    double far_size = 3e-3;        // at the air box
-    double air_box = 30e-3;        // side of the cubic (square in 2D) air box, centred on the device
+    double fluid_size = 0.2e-3;   // in and around the active fluid
+    double device_size = 0.5e-3;  // magnets, brackets, the tube near them
+    double far_size = 3e-3;       // at the air box
+    double air_box = 30e-3;       // side of the cubic (square in 2D) air box, centred on the device
 };
 
 std::vector<RegionPieces> add_epm_pieces(const EpmModel& model, int dimension);
@@ -35,7 +35,7 @@ MeshRequest epm_mesh_request(const EpmModel& model, int dimension, const MeshSet
 
 // Where the active fluid and the inactive air are, for documentation and the circuit model.
 struct EpmLayout {
-    Vec3 device_lo, device_hi;   // bounding box of magnets, brackets and the modelled tube
+    Vec3 device_lo, device_hi;  // bounding box of magnets, brackets and the modelled tube
 };
 EpmLayout epm_layout(const EpmModel& model);
 

@@ -7,11 +7,16 @@ namespace mrjam::magnetics {
 
 std::string variant_name(BracketVariant v) {
     switch (v) {
-        case BracketVariant::unguided: return "unguided";
-        case BracketVariant::rectangular: return "rectangular";
-        case BracketVariant::curved: return "curved";
-        case BracketVariant::unchamfered: return "unchamfered";
-        case BracketVariant::insert: return "insert";
+        case BracketVariant::unguided:
+            return "unguided";
+        case BracketVariant::rectangular:
+            return "rectangular";
+        case BracketVariant::curved:
+            return "curved";
+        case BracketVariant::unchamfered:
+            return "unchamfered";
+        case BracketVariant::insert:
+            return "insert";
     }
     return "?";
 }
@@ -36,9 +41,14 @@ std::vector<std::string> EpmModel::problems() const {
     // The field model's fluid volume and the circuit estimate are built from a circular
     // constriction; a slot would be modelled as a circle without a word, so it is refused.
     if (valve.is_slot())
-        say("/valve/orifice", "magnetics models circular orifices only; use \"circular\" here (a slot valve can be run by "
-                              "`mrjam jam` in a uniform field or a field map solved for the circular valve)");
-    auto mm = [](double v) { std::ostringstream s; s << v * 1e3 << " mm"; return s.str(); };
+        say("/valve/orifice",
+            "magnetics models circular orifices only; use \"circular\" here (a slot valve can be run by "
+            "`mrjam jam` in a uniform field or a field map solved for the circular valve)");
+    auto mm = [](double v) {
+        std::ostringstream s;
+        s << v * 1e3 << " mm";
+        return s.str();
+    };
     const auto& m = magnets;
     if (!(m.width > 0)) say("/magnets/width", "must be positive");
     if (!(m.depth > 0)) say("/magnets/depth", "must be positive");
@@ -46,12 +56,16 @@ std::vector<std::string> EpmModel::problems() const {
     if (!(m.spacing >= 0)) say("/magnets/spacing", "must not be negative");
     for (const auto& [name, mat] : {std::pair{"ndfeb", m.ndfeb}, std::pair{"alnico", m.alnico}}) {
         if (!(mat.remanence >= 0)) say(std::string("/magnets/") + name + "/remanence", "must not be negative");
-        if (!(mat.recoil_permeability >= 1)) say(std::string("/magnets/") + name + "/recoil_permeability", "must be at least 1");
+        if (!(mat.recoil_permeability >= 1))
+            say(std::string("/magnets/") + name + "/recoil_permeability", "must be at least 1");
     }
     const auto& b = bracket;
-    if (!(b.thickness > 0)) say("/bracket/thickness", "must be positive (a bracket thinner than zero cannot carry flux)");
-    if (!(b.tube_clearance >= 0)) say("/bracket/tube_clearance", "must not be negative (the magnets would cut into the tube)");
-    if (!(b.width > 0)) say("/bracket/width", "must be positive");
+    if (!(b.thickness > 0))
+        say("/bracket/thickness", "must be positive (a bracket thinner than zero cannot carry flux)");
+    if (!(b.tube_clearance >= 0))
+        say("/bracket/tube_clearance", "must not be negative (the magnets would cut into the tube)");
+    if (!(b.width > 0))
+        say("/bracket/width", "must be positive");
     else if (b.width < magnets_z_span())
         say("/bracket/width", mm(b.width) + " is narrower than the two magnets side by side (" + mm(magnets_z_span()) +
                                   "): the magnets do not fit the caps; widen the caps or shrink the magnets");
@@ -70,8 +84,12 @@ std::vector<std::string> EpmModel::problems() const {
                           "); model at least " + mm(0.5 * b.width + 0.25e-3) + " of tube on each side of the throat");
     if (b.variant != BracketVariant::unguided) {
         const double r = 0.5 * valve.outer_diameter();
-        if (b.tip_reach < -r) say("/bracket/tip_reach", "the tips stop short of the tube (tip_reach < -outer radius); reach at least to the tube wall");
-        if (b.tip_reach > r) say("/bracket/tip_reach", "the tips overshoot the tube by more than its radius; at most the outer radius " + mm(r));
+        if (b.tip_reach < -r)
+            say("/bracket/tip_reach",
+                "the tips stop short of the tube (tip_reach < -outer radius); reach at least to the tube wall");
+        if (b.tip_reach > r)
+            say("/bracket/tip_reach",
+                "the tips overshoot the tube by more than its radius; at most the outer radius " + mm(r));
         if (!(b.chamfer >= 0) || b.chamfer >= b.thickness)
             say("/bracket/chamfer", "must lie in [0, bracket thickness)");
         if (b.variant == BracketVariant::curved) {
@@ -85,12 +103,15 @@ std::vector<std::string> EpmModel::problems() const {
         if (b.variant == BracketVariant::insert) {
             if (!(b.insert_width > 0)) say("/bracket/insert_width", "must be positive");
             if (b.insert_width > valve.tube_inner_diameter)
-                say("/bracket/insert_width", "inserts wider than the bore would cut through the whole valve body; at most " +
-                                                 mm(valve.tube_inner_diameter));
+                say("/bracket/insert_width",
+                    "inserts wider than the bore would cut through the whole valve body; at most " +
+                        mm(valve.tube_inner_diameter));
         }
     }
-    if (!(materials.iron_relative_permeability >= 1)) say("/materials/iron_relative_permeability", "must be at least 1");
-    if (!(materials.fluid_relative_permeability >= 1)) say("/materials/fluid_relative_permeability", "must be at least 1");
+    if (!(materials.iron_relative_permeability >= 1))
+        say("/materials/iron_relative_permeability", "must be at least 1");
+    if (!(materials.fluid_relative_permeability >= 1))
+        say("/materials/fluid_relative_permeability", "must be at least 1");
     if (!(materials.iron_saturation > 0)) say("/materials/iron_saturation", "must be positive");
     return out;
 }

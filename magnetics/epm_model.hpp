@@ -24,26 +24,26 @@ struct MagnetMaterial {
 };
 
 struct MagnetParameters {
-    double width = 1.6e-3;     // along x (away from the tube)
-    double depth = 1.6e-3;     // along z (flow direction); the two magnets sit side by side in z
-    double length = 3.2e-3;    // along y, the magnetisation axis
-    double spacing = 0.4e-3;   // z gap between the two magnets (room for the alnico's coil)
-    MagnetMaterial ndfeb{1.35, 1.05};    // N42, remanence as in the source's FEM
+    double width = 1.6e-3;             // along x (away from the tube)
+    double depth = 1.6e-3;             // along z (flow direction); the two magnets sit side by side in z
+    double length = 3.2e-3;            // along y, the magnetisation axis
+    double spacing = 0.4e-3;           // z gap between the two magnets (room for the alnico's coil)
+    MagnetMaterial ndfeb{1.35, 1.05};  // N42, remanence as in the source's FEM
     // The source's FEM fixed both remanences at 1.35 T and treated the alnico like the NdFeB;
     // real alnico 5 recoils with mu ~ 3.5 about its working point (its effect: docs/magnetics.md).
     MagnetMaterial alnico{1.35, 1.05};
-    double alnico_polarity = 1.0;        // +1 ON (parallel), -1 OFF (antiparallel)
+    double alnico_polarity = 1.0;  // +1 ON (parallel), -1 OFF (antiparallel)
 };
 
 struct BracketParameters {
     BracketVariant variant = BracketVariant::rectangular;
-    double thickness = 1.4e-3;         // along y: 3.2 mm magnets + 2 x 1.4 mm caps = the EPM's 6 mm
-    double width = 4.0e-3;             // along z: the EPM's 4 mm
-    double tube_clearance = 0.2e-3;    // x gap between the magnets' front face and the tube wall (coil room)
-    double tip_reach = 0.0;            // tip x position measured from the tube axis (0: to the centre of the flow)
-    double chamfer = 0.5e-3;           // 45-degree chamfer on the outer edge of each tip
-    double cutout_radius = 0.6e-3;     // curved variant: circular cutout in the inner face at the base
-    double insert_width = 1.0e-3;      // insert variant: x extent of the iron inserts bridging the wall
+    double thickness = 1.4e-3;       // along y: 3.2 mm magnets + 2 x 1.4 mm caps = the EPM's 6 mm
+    double width = 4.0e-3;           // along z: the EPM's 4 mm
+    double tube_clearance = 0.2e-3;  // x gap between the magnets' front face and the tube wall (coil room)
+    double tip_reach = 0.0;          // tip x position measured from the tube axis (0: to the centre of the flow)
+    double chamfer = 0.5e-3;         // 45-degree chamfer on the outer edge of each tip
+    double cutout_radius = 0.6e-3;   // curved variant: circular cutout in the inner face at the base
+    double insert_width = 1.0e-3;    // insert variant: x extent of the iron inserts bridging the wall
 };
 
 struct MaterialParameters {
@@ -60,10 +60,10 @@ struct EpmModel {
     MaterialParameters materials;
 
     // Derived positions (metres, model frame).
-    double gap() const { return magnets.length; }                   // between the brackets' inner faces
+    double gap() const { return magnets.length; }  // between the brackets' inner faces
     double magnet_front_x() const { return -(0.5 * valve.outer_diameter() + bracket.tube_clearance); }
     double magnet_back_x() const { return magnet_front_x() - magnets.width; }
-    double bracket_tip_x() const;                                  // unguided: the magnets' front face
+    double bracket_tip_x() const;  // unguided: the magnets' front face
     double magnets_z_span() const { return 2.0 * magnets.depth + magnets.spacing; }
 
     // Problems with the description, each "path: what is wrong and the fix"; empty if none.

@@ -1,5 +1,8 @@
 #include "magnetics/getdp_problem.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,12 +10,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
-#include <regex>
 #include <numbers>
+#include <regex>
 #include <sstream>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "core/format.hpp"
 #include "magnetics/child_process.hpp"
@@ -37,7 +37,9 @@ std::string number(double v) {
     return s.str();
 }
 
-std::string vector_text(const Vec3& v) { return "Vector[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]"; }
+std::string vector_text(const Vec3& v) {
+    return "Vector[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]";
+}
 
 std::string group_list(const std::vector<RegionMaterial>& regions) {
     std::string s;
@@ -92,28 +94,39 @@ std::string getdp_problem_text(const ProblemRequest& p) {
     o << "Formulation { { Name Magnetostatics; Type FemEquation;\n"
          "  Quantity { { Name phi; Type Local; NameOfSpace Hphi; } }\n"
          "  Equation {\n"
-         "    Galerkin { [ " << mu_of << " * Dof{d phi}, {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; }\n"
+         "    Galerkin { [ "
+      << mu_of
+      << " * Dof{d phi}, {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; }\n"
          "    Galerkin { [ -br[], {d phi} ]; In Domain; Jacobian Vol; Integration Gauss2; }\n";
     // Newton: d(mu(|H|) H)/dH = mu I + (dmu/d|H|) H (x) H / |H|; the second part is JacNL.
     if (!saturating.empty())
         o << "    Galerkin { JacNL [ dmudh_over_h[-{d phi}] * SquDyadicProduct[{d phi}] * Dof{d phi}, {d phi} ]; "
              "In Saturating; Jacobian Vol; Integration Gauss2; }\n";
     o << "  } } }\n\n";
-    o << "Resolution { { Name Magnetostatics; System { { Name A; NameOfFormulation Magnetostatics; } }\n  Operation {\n";
+    o << "Resolution { { Name Magnetostatics; System { { Name A; NameOfFormulation Magnetostatics; } }\n  Operation "
+         "{\n";
     if (saturating.empty()) {
         o << "    Generate[A]; Solve[A];\n";
     } else {
         // Newton iteration (the JacNL term above completes the Jacobian).
-        o << "    InitSolution[A];\n    IterativeLoop[" << p.nonlinear_iterations << ", " << number(p.nonlinear_tolerance)
-          << ", 1] { GenerateJac[A]; SolveJac[A]; }\n";
+        o << "    InitSolution[A];\n    IterativeLoop[" << p.nonlinear_iterations << ", "
+          << number(p.nonlinear_tolerance) << ", 1] { GenerateJac[A]; SolveJac[A]; }\n";
     }
     o << "    SaveSolution[A]; } } }\n\n";
     o << "PostProcessing { { Name Field; NameOfFormulation Magnetostatics; Quantity {\n"
-         "  { Name b; Value { Local { [ -" << mu_of << " * {d phi} + br[] ]; In Domain; Jacobian Vol; } } }\n"
-         "  { Name normb; Value { Local { [ Norm[-" << mu_of << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; } } }\n"
+         "  { Name b; Value { Local { [ -"
+      << mu_of
+      << " * {d phi} + br[] ]; In Domain; Jacobian Vol; } } }\n"
+         "  { Name normb; Value { Local { [ Norm[-"
+      << mu_of
+      << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; } } }\n"
          "  { Name volume; Value { Integral { [ 1 ]; In Domain; Jacobian Vol; Integration Gauss2; } } }\n"
-         "  { Name intb; Value { Integral { [ Norm[-" << mu_of << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; Integration Gauss2; } } }\n"
-         "  { Name intb2; Value { Integral { [ SquNorm[-" << mu_of << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; Integration Gauss2; } } }\n"
+         "  { Name intb; Value { Integral { [ Norm[-"
+      << mu_of
+      << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; Integration Gauss2; } } }\n"
+         "  { Name intb2; Value { Integral { [ SquNorm[-"
+      << mu_of
+      << " * {d phi} + br[]] ]; In Domain; Jacobian Vol; Integration Gauss2; } } }\n"
          "} } }\n\n";
     o << "PostOperation { { Name Report; NameOfPostProcessing Field; Operation {\n";
     for (int r : p.measured_regions) {
@@ -126,14 +139,15 @@ std::string getdp_problem_text(const ProblemRequest& p) {
         o << "  Print[ b, OnElementsOf Region[" << r << "], Format SimpleTable, File \"elements_" << r << ".txt\" ];\n";
     if (p.section) {
         if (p.dimension == 3)
-            o << "  Print[ normb, OnSection { {0, 0, 0} {1, 0, 0} {0, 1, 0} }, Format SimpleTable, File \"section.txt\" ];\n";
+            o << "  Print[ normb, OnSection { {0, 0, 0} {1, 0, 0} {0, 1, 0} }, Format SimpleTable, File "
+                 "\"section.txt\" ];\n";
         else
             o << "  Print[ normb, OnElementsOf Domain, Format SimpleTable, File \"section.txt\" ];\n";
     }
     for (std::size_t i = 0; i < p.lines.size(); ++i) {
         const auto& l = p.lines[i];
-        o << "  Print[ b, OnLine { {" << number(l.from.x) << ", " << number(l.from.y) << ", " << number(l.from.z) << "} {"
-          << number(l.to.x) << ", " << number(l.to.y) << ", " << number(l.to.z) << "} } {" << l.points - 1
+        o << "  Print[ b, OnLine { {" << number(l.from.x) << ", " << number(l.from.y) << ", " << number(l.from.z)
+          << "} {" << number(l.to.x) << ", " << number(l.to.y) << ", " << number(l.to.z) << "} } {" << l.points - 1
           << "}, Format SimpleTable, File \"line_" << i << ".txt\" ];\n";
     }
     o << "} } }\n";
@@ -205,11 +219,17 @@ ElementField element_rows(const fs::path& file, int components, int dimension) {
         };
         if (dimension == 3) {
             if (k != 4) throw SolverError("expected tetrahedra in " + file.string());
-            for (std::size_t v = 0; v < 4; ++v) { f.points.push_back(point(v)); f.values.push_back(value(v)); }
+            for (std::size_t v = 0; v < 4; ++v) {
+                f.points.push_back(point(v));
+                f.values.push_back(value(v));
+            }
             continue;
         }
         for (std::size_t v = 1; v + 1 < k; ++v)
-            for (std::size_t u : {std::size_t{0}, v, v + 1}) { f.points.push_back(point(u)); f.values.push_back(value(u)); }
+            for (std::size_t u : {std::size_t{0}, v, v + 1}) {
+                f.points.push_back(point(u));
+                f.values.push_back(value(u));
+            }
     }
     return f;
 }
@@ -239,8 +259,9 @@ std::string tail_of(const fs::path& log, std::size_t lines) {
 Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, const fs::path& mesh_file) {
     const std::string getdp = find_getdp();
     if (getdp.empty())
-        throw SolverError("getdp was not found on PATH; install it with `apt-get install getdp` "
-                          "(or run scripts/install-deps.sh)");
+        throw SolverError(
+            "getdp was not found on PATH; install it with `apt-get install getdp` "
+            "(or run scripts/install-deps.sh)");
     const auto start = std::chrono::steady_clock::now();
     const fs::path pro = work_dir / "problem.pro";
     const fs::path log = work_dir / "getdp.log";
@@ -251,9 +272,9 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
     }
     // -v 4 makes GetDP log the iteration count, which is how non-convergence is detected: it
     // returns 0 even when CG stops at the iteration limit.
-    const ChildResult run = run_child({getdp, pro.string(), "-msh", mesh_file.string(), "-solve", "Magnetostatics", "-pos", "Report",
-                                       "-v", "4", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_rtol", number(p.solver_tolerance),
-                                       "-ksp_max_it", std::to_string(kMaxSolverIterations)},
+    const ChildResult run = run_child({getdp, pro.string(), "-msh", mesh_file.string(), "-solve", "Magnetostatics",
+                                       "-pos", "Report", "-v", "4", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_rtol",
+                                       number(p.solver_tolerance), "-ksp_max_it", std::to_string(kMaxSolverIterations)},
                                       log);
     const int status = run.wait_status;
     if (run.stopped_by_us) throw SolverError("getdp was stopped: mrjam was interrupted");
@@ -288,17 +309,18 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
         }
     }
     if (s.solver_iterations >= kMaxSolverIterations)
-        throw SolverError("the CG solver did not converge in " + std::to_string(kMaxSolverIterations) + " iterations (" +
-                          std::to_string(s.unknowns) + " unknowns); check the mesh for slivers or use a coarser mesh. Log: " +
-                          log.string());
+        throw SolverError("the CG solver did not converge in " + std::to_string(kMaxSolverIterations) +
+                          " iterations (" + std::to_string(s.unknowns) +
+                          " unknowns); check the mesh for slivers or use a coarser mesh. Log: " + log.string());
 
     const bool saturating = std::any_of(p.regions.begin(), p.regions.end(), [](const auto& r) { return r.saturating; });
     if (saturating && !(s.nonlinear_residual <= p.nonlinear_tolerance))
-        throw SolverError("the nonlinear (saturating iron) iteration did not converge: residual " +
-                          format_number(s.nonlinear_residual) + " after " + std::to_string(s.nonlinear_steps) +
-                          " steps (tolerance " + format_number(p.nonlinear_tolerance) + ", " + std::to_string(s.unknowns) +
-                          " unknowns); the iron may be deep in saturation: check the remanence and the saturation. Log: " +
-                          log.string());
+        throw SolverError(
+            "the nonlinear (saturating iron) iteration did not converge: residual " +
+            format_number(s.nonlinear_residual) + " after " + std::to_string(s.nonlinear_steps) + " steps (tolerance " +
+            format_number(p.nonlinear_tolerance) + ", " + std::to_string(s.unknowns) +
+            " unknowns); the iron may be deep in saturation: check the remanence and the saturation. Log: " +
+            log.string());
 
     // Results are written next to the .pro file.
     for (int r : p.measured_regions) {

@@ -32,13 +32,13 @@ struct LineRequest {
 
 struct ProblemRequest {
     int dimension = 3;
-    std::vector<RegionMaterial> regions;   // every meshed region (air included)
+    std::vector<RegionMaterial> regions;  // every meshed region (air included)
     int boundary_region = 0;
-    std::vector<int> measured_regions;     // volume, mean |B|, mean |B|^2, max |B| reported for each
-    std::vector<int> sampled_regions;      // B exported per element, to sample anywhere in them
-    bool section = false;                  // |B| on the plane z = 0 (3D: a cut; 2D: the whole mesh)
+    std::vector<int> measured_regions;  // volume, mean |B|, mean |B|^2, max |B| reported for each
+    std::vector<int> sampled_regions;   // B exported per element, to sample anywhere in them
+    bool section = false;               // |B| on the plane z = 0 (3D: a cut; 2D: the whole mesh)
     std::vector<LineRequest> lines;
-    double solver_tolerance = 1e-10;       // relative residual of CG
+    double solver_tolerance = 1e-10;  // relative residual of CG
     int nonlinear_iterations = 40;
     double nonlinear_tolerance = 1e-5;
 };
@@ -53,13 +53,13 @@ struct RegionField {
 
 struct Solution {
     std::vector<RegionField> fields;
-    ElementField sampled;                          // B on the sampled regions' elements
-    ElementField section;                          // |B| (in x) on triangles of the plane z = 0
-    std::vector<std::vector<Vec3>> line_values;    // per line request
+    ElementField sampled;                        // B on the sampled regions' elements
+    ElementField section;                        // |B| (in x) on triangles of the plane z = 0
+    std::vector<std::vector<Vec3>> line_values;  // per line request
     int unknowns = 0;
-    int solver_iterations = 0;                      // CG iterations (last linear solve)
-    int nonlinear_steps = 0;                        // Newton steps (0 for a linear problem)
-    double nonlinear_residual = 0;                  // GetDP's last relative nonlinear residual
+    int solver_iterations = 0;      // CG iterations (last linear solve)
+    int nonlinear_steps = 0;        // Newton steps (0 for a linear problem)
+    double nonlinear_residual = 0;  // GetDP's last relative nonlinear residual
     double seconds = 0;
     const RegionField& field(int region) const;
 };

@@ -1,5 +1,7 @@
 #include "magnetics/gmsh_assembly.hpp"
 
+#include <gmsh.h>
+
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -7,8 +9,6 @@
 #include <map>
 #include <set>
 #include <stdexcept>
-
-#include <gmsh.h>
 
 namespace mrjam::magnetics {
 
@@ -68,7 +68,10 @@ MeshSummary mesh_assembly(const std::vector<RegionPieces>& regions, const MeshRe
     DimTags tools;
     std::vector<std::size_t> owner;  // region index of each tool
     for (std::size_t r = 0; r < regions.size(); ++r)
-        for (const auto& p : regions[r].pieces) { tools.push_back(p); owner.push_back(r); }
+        for (const auto& p : regions[r].pieces) {
+            tools.push_back(p);
+            owner.push_back(r);
+        }
     DimTags out;
     std::vector<DimTags> map;
     gmsh::model::occ::fragment({{dim, air}}, tools, out, map);
@@ -78,7 +81,10 @@ MeshSummary mesh_assembly(const std::vector<RegionPieces>& regions, const MeshRe
     std::set<int> claimed;
     for (std::size_t t = 0; t < tools.size(); ++t)
         for (const auto& [d, tag] : map[t + 1])
-            if (d == dim) { region_entities[owner[t]].insert(tag); claimed.insert(tag); }
+            if (d == dim) {
+                region_entities[owner[t]].insert(tag);
+                claimed.insert(tag);
+            }
     std::vector<int> air_entities;
     for (const auto& [d, tag] : map[0])
         if (d == dim && !claimed.count(tag)) air_entities.push_back(tag);
@@ -86,8 +92,9 @@ MeshSummary mesh_assembly(const std::vector<RegionPieces>& regions, const MeshRe
 
     for (std::size_t r = 0; r < regions.size(); ++r) {
         const auto& ents = region_entities[r];
-        if (ents.empty()) throw std::runtime_error("gmsh: region " + std::to_string(regions[r].region) +
-                                                   " vanished in the boolean operations (degenerate geometry)");
+        if (ents.empty())
+            throw std::runtime_error("gmsh: region " + std::to_string(regions[r].region) +
+                                     " vanished in the boolean operations (degenerate geometry)");
         gmsh::model::addPhysicalGroup(dim, std::vector<int>(ents.begin(), ents.end()), regions[r].region);
     }
     gmsh::model::addPhysicalGroup(dim, air_entities, request.air_region);

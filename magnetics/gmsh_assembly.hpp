@@ -24,8 +24,8 @@ public:
 };
 
 struct RegionPieces {
-    int region = 0;   // physical group number
-    DimTags pieces;   // OCC entities of the model's dimension, not overlapping other regions
+    int region = 0;  // physical group number
+    DimTags pieces;  // OCC entities of the model's dimension, not overlapping other regions
 };
 
 // A box where elements are at most `size`, growing linearly to the far size over `thickness`.
@@ -36,17 +36,17 @@ struct Refinement {
 };
 
 struct MeshRequest {
-    int dimension = 3;           // 3: volumes; 2: planar cross-section in the x-y plane
-    Vec3 air_lo, air_hi;         // the air box (the truncation boundary where phi = 0)
-    double far_size = 2e-3;      // element size at the air box boundary
+    int dimension = 3;       // 3: volumes; 2: planar cross-section in the x-y plane
+    Vec3 air_lo, air_hi;     // the air box (the truncation boundary where phi = 0)
+    double far_size = 2e-3;  // element size at the air box boundary
     std::vector<Refinement> refinements;
-    int air_region = 0;          // physical number for the remaining air
-    int boundary_region = 0;     // physical number for the air box boundary
+    int air_region = 0;       // physical number for the remaining air
+    int boundary_region = 0;  // physical number for the air box boundary
 };
 
 struct MeshSummary {
     std::size_t nodes = 0;
-    std::size_t elements = 0;    // tetrahedra (3D) or triangles (2D)
+    std::size_t elements = 0;  // tetrahedra (3D) or triangles (2D)
     double seconds = 0;
 };
 

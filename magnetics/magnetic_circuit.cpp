@@ -40,9 +40,9 @@ EpmField circuit_field(const EpmModel& m) {
         const double chord = std::abs(x) < r ? 2.0 * std::sqrt(r * r - x * x) : 0.0;
         double path;
         if (x <= x_tip) {
-            const double notch = curved ? std::max(0.0, b.cutout_radius * b.cutout_radius -
-                                                            std::pow(x - (x_front + b.cutout_radius), 2))
-                                        : 0.0;
+            const double notch =
+                curved ? std::max(0.0, b.cutout_radius * b.cutout_radius - std::pow(x - (x_front + b.cutout_radius), 2))
+                       : 0.0;
             const double gap = g + 2.0 * std::sqrt(notch);
             const bool bridged = insert && std::abs(x) <= 0.5 * b.insert_width;
             path = bridged ? chord / mu_f : gap - chord + chord / mu_f;
@@ -94,8 +94,9 @@ EpmField circuit_field(const EpmModel& m) {
     out.mean_b_active = std::abs(out.mean_b_active);
     out.max_b_active = std::abs(out.max_b_active);
     out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.notes.push_back("circuit: ideal iron, straight and quarter-circle flux tubes, Roters fringing; no OFF-state "
-                        "leakage (equal and opposite magnets give exactly zero) and no field gradient");
+    out.notes.push_back(
+        "circuit: ideal iron, straight and quarter-circle flux tubes, Roters fringing; no OFF-state "
+        "leakage (equal and opposite magnets give exactly zero) and no field gradient");
     return out;
 }
 

@@ -17,8 +17,15 @@ FieldModel tier_field_model(const std::string& tier) {
 // (0.12, 0.3) mm elements, so the standard tier uses the coarse pair and answers in seconds.
 MeshSettings tier_mesh(const std::string& tier) {
     MeshSettings m;  // standard 3D
-    if (tier == "quick") { m.fluid_size = 0.05e-3; m.device_size = 0.1e-3; m.far_size = 2e-3; }  // 2D: cheap
-    if (tier == "paper") { m.fluid_size = 0.1e-3; m.device_size = 0.25e-3; }
+    if (tier == "quick") {
+        m.fluid_size = 0.05e-3;
+        m.device_size = 0.1e-3;
+        m.far_size = 2e-3;
+    }  // 2D: cheap
+    if (tier == "paper") {
+        m.fluid_size = 0.1e-3;
+        m.device_size = 0.25e-3;
+    }
     return m;
 }
 
@@ -40,9 +47,11 @@ double maxwell_garnett(double phi, double mu_particle) {
 
 void read_materials(SceneNode node, MaterialParameters& m) {
     if (auto iron = node.optional_object("iron")) {
-        m.iron_relative_permeability = iron->number("relative_permeability", m.iron_relative_permeability, Bounds::closed(1.0, 1e7));
+        m.iron_relative_permeability =
+            iron->number("relative_permeability", m.iron_relative_permeability, Bounds::closed(1.0, 1e7));
         m.iron_nonlinear = iron->choice("model", {"linear", "saturating"}, "linear") == "saturating";
-        m.iron_saturation = iron->quantity("saturation", units::magnetic_flux_density, m.iron_saturation, Bounds::positive());
+        m.iron_saturation =
+            iron->quantity("saturation", units::magnetic_flux_density, m.iron_saturation, Bounds::positive());
         iron->finish();
     }
     if (auto fluid = node.optional_object("fluid")) {
@@ -52,7 +61,8 @@ void read_materials(SceneNode node, MaterialParameters& m) {
                 fluid->number("relative_permeability", m.fluid_relative_permeability, Bounds::closed(1.0, 1e6));
         } else {
             if (fluid->has("relative_permeability"))
-                fluid->fail("relative_permeability", "is derived from the mixing rule; drop it or set mixing_rule to \"none\"");
+                fluid->fail("relative_permeability",
+                            "is derived from the mixing rule; drop it or set mixing_rule to \"none\"");
             const double phi = fluid->number("volume_fraction", std::nullopt, Bounds::open(0.0, 0.74));
             const double mu_p = fluid->number("particle_permeability", 1000.0, Bounds::closed(1.0, 1e7));
             m.fluid_relative_permeability = maxwell_garnett(phi, mu_p);
@@ -71,13 +81,14 @@ namespace {
 nlohmann::json with_default_blocks(const nlohmann::json& scene) {
     if (!scene.is_object()) throw SceneError("", "a magnetics scene is a JSON object");
     nlohmann::json filled = scene;
-    const nlohmann::json skeleton = {{"valve", nlohmann::json::object()},
-                                     {"magnets", {{"ndfeb", nlohmann::json::object()}, {"alnico", nlohmann::json::object()}}},
-                                     {"bracket", nlohmann::json::object()},
-                                     {"materials", {{"iron", nlohmann::json::object()}, {"fluid", nlohmann::json::object()}}},
-                                     {"mesh", nlohmann::json::object()},
-                                     {"field_map", nlohmann::json::object()},
-                                     {"output", nlohmann::json::object()}};
+    const nlohmann::json skeleton = {
+        {"valve", nlohmann::json::object()},
+        {"magnets", {{"ndfeb", nlohmann::json::object()}, {"alnico", nlohmann::json::object()}}},
+        {"bracket", nlohmann::json::object()},
+        {"materials", {{"iron", nlohmann::json::object()}, {"fluid", nlohmann::json::object()}}},
+        {"mesh", nlohmann::json::object()},
+        {"field_map", nlohmann::json::object()},
+        {"output", nlohmann::json::object()}};
     for (const auto& [key, blocks] : skeleton.items()) {
         if (!filled.contains(key)) filled[key] = nlohmann::json::object();
         if (!filled[key].is_object()) continue;  // the reader refuses it with the path
@@ -117,8 +128,9 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
     }
     m.magnets.alnico_polarity = out.state == "on" ? 1.0 : -1.0;
     if (out.state == "partial" && m.magnets.alnico.remanence >= m.magnets.ndfeb.remanence)
-        root.fail("state", "partial switching means the alnico is reversed but weaker than the NdFeB: set "
-                           "magnets/alnico/remanence below magnets/ndfeb/remanence (the source used 1.25 T vs 1.35 T)");
+        root.fail("state",
+                  "partial switching means the alnico is reversed but weaker than the NdFeB: set "
+                  "magnets/alnico/remanence below magnets/ndfeb/remanence (the source used 1.25 T vs 1.35 T)");
     if (auto b = root.optional_object("bracket")) {
         auto& br = m.bracket;
         br.thickness = b->quantity("thickness", L, br.thickness, Bounds::any());
@@ -142,14 +154,17 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
     if (!problems.empty()) {
         const std::string first = problems.front();
         const auto colon = first.find(": ");
-        throw SceneError(first.substr(0, colon), first.substr(colon + 2) +
-                                                     (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
-                                                                                " more problem(s); fix this one first)"
-                                                                          : ""));
+        throw SceneError(
+            first.substr(0, colon),
+            first.substr(colon + 2) + (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
+                                                                 " more problem(s); fix this one first)"
+                                                           : ""));
     }
 
     const std::string model = root.choice("model", {"circuit", "2d", "3d"}, field_model_name(tier_field_model(tier)));
-    out.request.field_model = model == "circuit" ? FieldModel::circuit : model == "2d" ? FieldModel::planar_2d : FieldModel::full_3d;
+    out.request.field_model = model == "circuit" ? FieldModel::circuit
+                              : model == "2d"    ? FieldModel::planar_2d
+                                                 : FieldModel::full_3d;
     MeshSettings mesh = tier_mesh(tier);
     if (auto node = root.optional_object("mesh")) {
         mesh.fluid_size = node->quantity("fluid_size", L, mesh.fluid_size, Bounds::positive());
@@ -165,7 +180,8 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
                                               format_number(2e3 * std::max({extent.x, extent.y, extent.z})) +
                                               " mm) so the phi = 0 boundary does not squeeze the field");
     if (mesh.fluid_size > 0.5 * m.valve.constriction_diameter)
-        throw SceneError("/mesh/fluid_size", "is coarser than half the throat diameter; the fluid would not be resolved");
+        throw SceneError("/mesh/fluid_size",
+                         "is coarser than half the throat diameter; the fluid would not be resolved");
     if (out.request.field_model == FieldModel::full_3d) {
         // The unknowns grow as the inverse cube of the element size. Scaled from the finest 3D
         // mesh measured (docs/magnetics.md: 1.15 million unknowns at 0.075 / 0.19 mm, 4 GB,
@@ -177,13 +193,18 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
         const double unknowns = std::max(fluid, device) + far;
         constexpr double kMostUnknowns = 4e6;  // about 14 GB at the measured 3.5 kB per unknown
         if (unknowns > kMostUnknowns) {
-            const std::string key = far >= std::max(fluid, device) ? "far_size" : fluid >= device ? "fluid_size" : "device_size";
-            throw SceneError("/mesh/" + key, "would make a 3D mesh of about " + std::to_string(static_cast<long long>(unknowns / 1e6)) +
-                                                 " million unknowns, past the " + std::to_string(static_cast<int>(kMostUnknowns / 1e6)) +
-                                                 " million this tool solves (1.15 million at 0.075 / 0.19 mm took 4 GB and 452 s): "
-                                                 "coarsen it" + (tier == "quick" ? std::string(" (the quick tier's sizes are for its 2D "
-                                                                                              "model; give /mesh sizes for 3D)")
-                                                                                : std::string()));
+            const std::string key = far >= std::max(fluid, device) ? "far_size"
+                                    : fluid >= device              ? "fluid_size"
+                                                                   : "device_size";
+            throw SceneError("/mesh/" + key,
+                             "would make a 3D mesh of about " + std::to_string(static_cast<long long>(unknowns / 1e6)) +
+                                 " million unknowns, past the " +
+                                 std::to_string(static_cast<int>(kMostUnknowns / 1e6)) +
+                                 " million this tool solves (1.15 million at 0.075 / 0.19 mm took 4 GB and 452 s): "
+                                 "coarsen it" +
+                                 (tier == "quick" ? std::string(" (the quick tier's sizes are for its 2D "
+                                                                "model; give /mesh sizes for 3D)")
+                                                  : std::string()));
         }
     }
     out.request.mesh = mesh;
@@ -212,7 +233,8 @@ SourceFigure source_figure(const MagneticsScene& s) {
         if (v == BracketVariant::unchamfered) return {0.2245, "active", "unchamfered ON, mean in the active area"};
         if (v == BracketVariant::insert) return {0.5578, "active", "inserts ON, mean in the active area"};
     }
-    if (v == BracketVariant::rectangular && s.state == "off") return {0.066e-3, "inactive", "rectangular OFF, inactive area"};
+    if (v == BracketVariant::rectangular && s.state == "off")
+        return {0.066e-3, "inactive", "rectangular OFF, inactive area"};
     if (v == BracketVariant::rectangular && s.state == "partial")
         return {4.3e-3, "active", "rectangular OFF with alnico at 1.25 T, active area"};
     return {};

@@ -5,9 +5,6 @@
 // Scenes are written from this file into a fresh temporary directory; the binary is the one
 // CMake built next to the tests (MRJAM_BINARY).
 #include <doctest/doctest.h>
-
-#include "test_support.hpp"
-
 #include <sys/wait.h>
 
 #include <atomic>
@@ -16,35 +13,30 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "test_support.hpp"
 
 using mrjam_test::rel;
 
 namespace {
 
-using mrjam_test::slurp;
-using mrjam_test::write_text;
+using mrjam_test::expect_refused;
+using mrjam_test::mrjam;
 using mrjam_test::quote;
 using mrjam_test::Result;
-using mrjam_test::mrjam;
 using mrjam_test::run_scene;
-using mrjam_test::expect_refused;
+using mrjam_test::slurp;
+using mrjam_test::write_text;
 struct TempDir : mrjam_test::TempDir {
     TempDir() : mrjam_test::TempDir("mrjam_cli") {}
 };
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-
-
-
-
-
 
 json read_report(const TempDir& dir, const std::string& name) {
     const std::string text = slurp(dir.file(name + "_report.json"));
@@ -95,564 +87,586 @@ json two_stage_scene(long every, const std::string& checkpoint_path, const std::
     return scene;
 }
 
-
 }  // namespace
 
 TEST_SUITE("cli") {
+    TEST_CASE("cli: --version exits 0 and names the version") {
+        TempDir dir;
+        const Result r = mrjam(dir, "--version");
+        CHECK(r.exit_code == 0);
+        CHECK(r.out.find("mrjam") != std::string::npos);
+        CHECK(r.out.find(MRJAM_VERSION) != std::string::npos);
+    }
 
-TEST_CASE("cli: --version exits 0 and names the version") {
-    TempDir dir;
-    const Result r = mrjam(dir, "--version");
-    CHECK(r.exit_code == 0);
-    CHECK(r.out.find("mrjam") != std::string::npos);
-    CHECK(r.out.find(MRJAM_VERSION) != std::string::npos);
-}
+    TEST_CASE("cli: no subcommand, or an unknown option, is a command-line error") {
+        TempDir dir;
+        CHECK(mrjam(dir, "").exit_code == 2);
+        CHECK(mrjam(dir, "run --no-such-option x.json").exit_code == 2);
+        CHECK(mrjam(dir, "run").exit_code == 2);  // neither a scene nor --resume
+    }
 
-TEST_CASE("cli: no subcommand, or an unknown option, is a command-line error") {
-    TempDir dir;
-    CHECK(mrjam(dir, "").exit_code == 2);
-    CHECK(mrjam(dir, "run --no-such-option x.json").exit_code == 2);
-    CHECK(mrjam(dir, "run").exit_code == 2);  // neither a scene nor --resume
-}
+    TEST_CASE("cli: a small scene runs and reports its inputs with defaults, seed and timing") {
+        TempDir dir;
+        const Result r = run_scene(dir, "small", small_scene());
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = read_report(dir, "small");
+        CHECK(rep["status"] == "complete");
+        CHECK(rep["partial"] == false);
+        CHECK(rep["seed"] == 17);
+        CHECK(rep["mode"] == "run");
+        REQUIRE(rep["wall_time_s"].is_number());
+        CHECK(rep["wall_time_s"].get<double>() >= 0);
+        CHECK(rep["results"]["steps"] == 100);
+        CHECK(rep["results"]["grains"].get<int>() > 50);
+        const json& in = rep["inputs"];
+        // Defaults are filled in.
+        CHECK(in["run"]["timestep_safety"] == 0.1);
+        CHECK(in["run"]["timestep"] == "auto");
+        CHECK(in["run"]["skin"] == 0.1);
+        CHECK(in["run"]["max_overlap_fraction"] == 0.1);
+        CHECK(in["materials"][0]["poisson_ratio"] == 0.3);
+        CHECK(in["contact"]["model"] == "hertz_mindlin");
+        CHECK(in["grains"][0]["placement"]["overlap_tolerance"] == 1e-3);
+        // Unit strings are resolved to SI.
+        CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e7));
+        CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(1e-3));
+        // The step actually used and its limits.
+        const double dt = rep["timestep"]["used_s"].get<double>();
+        CHECK(dt > 0);
+        CHECK(dt == rel(0.1 * rep["timestep"]["critical_s"].get<double>()));
+        CHECK(rep["results"]["simulated_time_s"].get<double>() == rel(100 * dt));
+    }
 
-TEST_CASE("cli: a small scene runs and reports its inputs with defaults, seed and timing") {
-    TempDir dir;
-    const Result r = run_scene(dir, "small", small_scene());
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json rep = read_report(dir, "small");
-    CHECK(rep["status"] == "complete");
-    CHECK(rep["partial"] == false);
-    CHECK(rep["seed"] == 17);
-    CHECK(rep["mode"] == "run");
-    REQUIRE(rep["wall_time_s"].is_number());
-    CHECK(rep["wall_time_s"].get<double>() >= 0);
-    CHECK(rep["results"]["steps"] == 100);
-    CHECK(rep["results"]["grains"].get<int>() > 50);
-    const json& in = rep["inputs"];
-    // Defaults are filled in.
-    CHECK(in["run"]["timestep_safety"] == 0.1);
-    CHECK(in["run"]["timestep"] == "auto");
-    CHECK(in["run"]["skin"] == 0.1);
-    CHECK(in["run"]["max_overlap_fraction"] == 0.1);
-    CHECK(in["materials"][0]["poisson_ratio"] == 0.3);
-    CHECK(in["contact"]["model"] == "hertz_mindlin");
-    CHECK(in["grains"][0]["placement"]["overlap_tolerance"] == 1e-3);
-    // Unit strings are resolved to SI.
-    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e7));
-    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(1e-3));
-    // The step actually used and its limits.
-    const double dt = rep["timestep"]["used_s"].get<double>();
-    CHECK(dt > 0);
-    CHECK(dt == rel(0.1 * rep["timestep"]["critical_s"].get<double>()));
-    CHECK(rep["results"]["simulated_time_s"].get<double>() == rel(100 * dt));
-}
+    TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-off") {
+        TempDir dir;
+        REQUIRE(run_scene(dir, "one", small_scene(), "--threads 1").exit_code == 0);
+        REQUIRE(run_scene(dir, "two", small_scene(), "--threads 2").exit_code == 0);
+        const json a = read_report(dir, "one"), b = read_report(dir, "two");
+        CHECK(b["threads"] == 2);
+        CHECK(a["results"]["grains"] == b["results"]["grains"]);
+        CHECK(a["results"]["simulated_time_s"] == b["results"]["simulated_time_s"]);
+        CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
+              rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
+    }
 
-TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-off") {
-    TempDir dir;
-    REQUIRE(run_scene(dir, "one", small_scene(), "--threads 1").exit_code == 0);
-    REQUIRE(run_scene(dir, "two", small_scene(), "--threads 2").exit_code == 0);
-    const json a = read_report(dir, "one"), b = read_report(dir, "two");
-    CHECK(b["threads"] == 2);
-    CHECK(a["results"]["grains"] == b["results"]["grains"]);
-    CHECK(a["results"]["simulated_time_s"] == b["results"]["simulated_time_s"]);
-    CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
-          rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
-}
+    TEST_CASE("cli: unit strings are accepted and resolved to SI") {
+        TempDir dir;
+        json scene = small_scene();
+        scene["domain"]["hi"] = {"60 um", "60 um", "60 um"};
+        scene["materials"][0]["density"] = "7800 kg/m3";
+        scene["materials"][0]["youngs_modulus"] = "1 GPa";
+        scene["grains"][0]["size"]["diameter"] = "6.7 um";
+        scene["fluid"] = {{"viscosity", "10 mPa s"}, {"density", "1.2 g/cm3"}};
+        scene["gravity"] = {0, 0, "-9.81 m/s2"};
+        scene["run"] = {{"duration", "0.2 us"}, {"characteristic_speed", "10 cm/s"}};
+        const Result r = run_scene(dir, "units", scene);
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json in = read_report(dir, "units")["inputs"];
+        CHECK(in["domain"]["hi"][0].get<double>() == rel(60e-6));
+        CHECK(in["materials"][0]["density"].get<double>() == rel(7800));
+        CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e9));
+        CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(6.7e-6));
+        CHECK(in["fluid"]["viscosity"].get<double>() == rel(0.01));
+        CHECK(in["fluid"]["density"].get<double>() == rel(1200));
+        CHECK(in["gravity"][2].get<double>() == rel(-9.81));
+        CHECK(in["run"]["duration"].get<double>() == rel(2e-7));
+        CHECK(in["run"]["characteristic_speed"].get<double>() == rel(0.1));
+    }
 
-TEST_CASE("cli: unit strings are accepted and resolved to SI") {
-    TempDir dir;
-    json scene = small_scene();
-    scene["domain"]["hi"] = {"60 um", "60 um", "60 um"};
-    scene["materials"][0]["density"] = "7800 kg/m3";
-    scene["materials"][0]["youngs_modulus"] = "1 GPa";
-    scene["grains"][0]["size"]["diameter"] = "6.7 um";
-    scene["fluid"] = {{"viscosity", "10 mPa s"}, {"density", "1.2 g/cm3"}};
-    scene["gravity"] = {0, 0, "-9.81 m/s2"};
-    scene["run"] = {{"duration", "0.2 us"}, {"characteristic_speed", "10 cm/s"}};
-    const Result r = run_scene(dir, "units", scene);
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json in = read_report(dir, "units")["inputs"];
-    CHECK(in["domain"]["hi"][0].get<double>() == rel(60e-6));
-    CHECK(in["materials"][0]["density"].get<double>() == rel(7800));
-    CHECK(in["materials"][0]["youngs_modulus"].get<double>() == rel(1e9));
-    CHECK(in["grains"][0]["size"]["diameter"].get<double>() == rel(6.7e-6));
-    CHECK(in["fluid"]["viscosity"].get<double>() == rel(0.01));
-    CHECK(in["fluid"]["density"].get<double>() == rel(1200));
-    CHECK(in["gravity"][2].get<double>() == rel(-9.81));
-    CHECK(in["run"]["duration"].get<double>() == rel(2e-7));
-    CHECK(in["run"]["characteristic_speed"].get<double>() == rel(0.1));
-}
-
-TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the bad field") {
-    TempDir dir;
-    {
-        json s = small_scene();
-        s["materials"][0]["densty"] = 7800;  // an extra, misspelt key
-        expect_refused(dir, "unknown_key", s, "/materials/0/densty");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0].erase("density");
-        s["materials"][0]["densty"] = "2500 kg/m3";  // the required key misspelt
-        const Result r = expect_refused(dir, "misspelt_required_key", s, "/materials/0/densty");
-        CHECK(r.err.find("/materials/0/density") != std::string::npos);
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["sizes"] = s["grains"][0]["size"];
-        expect_refused(dir, "unknown_key_in_grains", s, "/grains/0/sizes");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["restitution"] = "high";
-        expect_refused(dir, "wrong_type_string", s, "/materials/0/restitution");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["friction"] = true;
-        expect_refused(dir, "wrong_type_bool", s, "/materials/0/friction");
-    }
-    {
-        // A per-pair friction must name two defined materials and a friction that is not negative.
-        json s = small_scene();
-        s["material_pairs"] = {{{"materials", {"glass", "steel"}}, {"friction", 0}}};
-        expect_refused(dir, "pair_unknown_material", s, "/material_pairs/0/materials");
-        s["material_pairs"] = {{{"materials", "glass"}}};
-        expect_refused(dir, "pair_not_two", s, "/material_pairs/0/materials");
-        s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"friction", -0.1}}};
-        expect_refused(dir, "pair_negative_friction", s, "/material_pairs/0/friction");
-        s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"cohesion_energy_density", "-5 kJ/m3"}}};
-        expect_refused(dir, "pair_negative_cohesion", s, "/material_pairs/0/cohesion_energy_density");
-    }
-    {
-        json s = small_scene();
-        s["seed"] = 1.5;
-        expect_refused(dir, "wrong_type_seed", s, "/seed");
-    }
-    {
-        // A duration past any run's reach (here 1e30 s) once wrapped the step count round to a
-        // one-step run reported as complete.
-        json s = small_scene();
-        s["run"] = {{"duration", 1e30}};
-        const Result r = expect_refused(dir, "duration_overflow", s, "/run/duration");
-        CHECK(r.err.find("steps") != std::string::npos);
-        s["run"] = {{"duration", "1 ms"}, {"timestep", "1e-30 s"}};
-        expect_refused(dir, "timestep_tiny", s, "/run/duration");
-        // Nothing sets a time scale: no contact law, drag or damping.
-        s = small_scene();
-        s["contact"] = {{"model", "none"}};
-        expect_refused(dir, "no_step_limit", s, "/run/timestep");
-    }
-    {
-        // Grains placed where they cannot stay: a region reaching past a closed face, a plane
-        // wall through the region; both ended as a blow-up at the first step.
-        json s = small_scene();
-        s["domain"]["periodic"] = "xy";
-        s["grains"][0]["placement"]["volume_fraction"] = 0.1;
-        s["grains"][0]["placement"]["region"] = {{"lo", {0, 0, "-2 mm"}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};
-        expect_refused(dir, "region_past_closed_face", s, "/grains/0/placement/region");
-        s["grains"][0]["placement"]["region"] = {{"lo", {"-2 mm", 0, 0}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};  // x is periodic: fine
-        s["walls"] = {{{"name", "shelf"}, {"type", "plane"}, {"point", {0, 0, "1.5 mm"}}, {"normal", {0, 0, 1}}}};
-        const Result r = expect_refused(dir, "wall_through_grains", s, "/walls/0");
-        CHECK(r.err.find("shelf") != std::string::npos);
-    }
-    {
-        // Names that something else refers to must be given, and once.
-        json s = small_scene();
-        s["domain"]["periodic"] = "xx";
-        expect_refused(dir, "axis_twice", s, "/domain/periodic");
-        s = small_scene();
-        s["materials"][0]["name"] = "";
-        expect_refused(dir, "material_unnamed", s, "/materials/0/name");
-        s = small_scene();
-        s["domain"]["periodic"] = "xy";
-        s["walls"] = {{{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
-                      {{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, "6 mm"}}, {"normal", {0, 0, -1}}}};
-        expect_refused(dir, "wall_name_twice", s, "/walls/1/name");
-    }
-    {
-        // A lattice period longer than the periodic box (an internal error, exit 1, before).
-        json s = small_scene();
-        s["grains"][0]["placement"] = {{"method", "lattice"}, {"spacing", "1 m"}};
-        expect_refused(dir, "lattice_longer_than_box", s, "/grains/0/placement/spacing");
-    }
-    {
-        // Where the run writes: an output directory a file is in the way of, and a checkpoint
-        // that could not be saved (found out only at Ctrl-C, it lost the whole run).
-        write_text(dir.file("a_file"), "x");
-        json s = small_scene();
-        s["output"] = {{"directory", dir.file("a_file")}};
-        expect_refused(dir, "output_is_a_file", s, "/output/directory");
-        s["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("a_file") + "/ck.mrjam"}}}};
-        expect_refused(dir, "checkpoint_under_a_file", s, "/output/checkpoint/path");
-        s["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("out")}}}};
-        expect_refused(dir, "checkpoint_is_a_directory", s, "/output/checkpoint/path");
-    }
-    {
-        // Rafts: two of one name in one stage would be one raft at the second's velocity; a
-        // release or a velocity must name a raft formed by then.
-        json s = small_scene();
-        s["run"].erase("steps");
-        const json region = {{"lo", {0, 0, 0}}, {"hi", {"6 mm", "6 mm", "1 mm"}}};
-        s["stages"] = {{{"name", "a"}, {"steps", 10},
-                        {"form_rafts", {{{"name", "lower"}, {"region", region}}, {{"name", "lower"}, {"region", region}}}}}};
-        expect_refused(dir, "raft_twice", s, "/stages/0/form_rafts/1/name");
-        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"release", {"lower"}}}};
-        expect_refused(dir, "release_unformed", s, "/stages/0/release");
-        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"raft_velocities", {{{"name", "lower"}, {"velocity", {0, 0, 0}}}}}}};
-        expect_refused(dir, "velocity_unformed", s, "/stages/0/raft_velocities/0/name");
-        s["stages"] = {{{"name", "a"}, {"steps", 10}, {"form_rafts", {{{"name", "lower"}, {"region", region}}}}},
-                       {{"name", "b"}, {"duration", 1e30}, {"release", {"lower"}}}};
-        expect_refused(dir, "stage_duration_overflow", s, "/stages/1/duration");
-    }
-    {
-        json s = small_scene();
-        s["domain"]["hi"] = {"6 mm", "6 mm"};
-        expect_refused(dir, "wrong_type_vector", s, "/domain/hi");
-    }
-    {
-        json s = small_scene();
-        s["grains"] = {{"material", "glass"}};  // an object, not an array
-        expect_refused(dir, "wrong_type_array", s, "/grains");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"]["diameter"] = "-1 mm";
-        expect_refused(dir, "negative_diameter", s, "/grains/0/size/diameter");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"]["diameter"] = 0;
-        expect_refused(dir, "zero_diameter", s, "/grains/0/size/diameter");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"] = {{"distribution", "table"}, {"diameters", {"1 mm", "-0.5 mm"}}, {"frequencies", {1, 1}}};
-        expect_refused(dir, "negative_table_diameter", s, "/grains/0/size/diameters");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"] = {{"distribution", "lognormal"}, {"median_diameter", "-1 mm"}, {"sigma_ln", 0.2}};
-        expect_refused(dir, "negative_median", s, "/grains/0/size/median_diameter");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["restitution"] = 0;
-        expect_refused(dir, "restitution_0", s, "/materials/0/restitution");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["restitution"] = 1.5;
-        expect_refused(dir, "restitution_1.5", s, "/materials/0/restitution");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["placement"]["volume_fraction"] = 0.7;
-        const Result r = expect_refused(dir, "volume_fraction_0.7", s, "/grains/0/placement/volume_fraction");
-        CHECK(r.err.find("0.64") != std::string::npos);
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"]["diameter"] = "7 mm";  // the box is 6 mm
-        expect_refused(dir, "grain_larger_than_box", s, "/grains/0/size");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"]["diameter"] = "2.8 mm";  // fits, but a 6 mm period is < 2 cutoffs
-        expect_refused(dir, "period_too_short", s, "/domain/hi");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["size"]["diameter"] = "6.7 parsecs";
-        const Result r = expect_refused(dir, "bad_unit", s, "/grains/0/size/diameter");
-        CHECK(r.err.find("parsecs") != std::string::npos);
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["youngs_modulus"] = "10 MPa s";  // a viscosity, not a modulus
-        expect_refused(dir, "wrong_dimension", s, "/materials/0/youngs_modulus");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["youngs_modulus"] = 1e-300;  // blew up (exit 3) before the range was checked
-        expect_refused(dir, "absurd_modulus", s, "/materials/0/youngs_modulus");
-    }
-    {
-        json s = small_scene();
-        s["materials"][0]["density"] = "2500 mg/m3";  // 2.5e-3 kg/m3, less than air
-        expect_refused(dir, "absurd_density", s, "/materials/0/density");
-    }
-    {
-        json s = small_scene();
-        s["run"]["timestep"] = "1 ms";
-        const Result r = expect_refused(dir, "timestep_above_limit", s, "/run/timestep");
-        CHECK(r.err.find("stable limit") != std::string::npos);
-    }
-    {
-        json s = small_scene();
-        s["run"].erase("steps");
-        expect_refused(dir, "no_length", s, "/run/steps");
-    }
-    {
-        json s = small_scene();
-        s["grains"][0]["material"] = "steel";
-        expect_refused(dir, "unknown_material", s, "/grains/0/material");
-    }
-    {
-        json s = small_scene();
-        s["domain"]["periodic"] = "xw";
-        expect_refused(dir, "bad_axis", s, "/domain/periodic");
-    }
-    {
-        json s = small_scene();
-        s["domain"]["hi"] = {"6 mm", "-6 mm", "6 mm"};
-        expect_refused(dir, "inverted_box", s, "/domain/hi");
-    }
-    {
-        // Listed grains: a bad unit names the component; a centre outside a closed axis and two
-        // grains on top of each other are refused before the run (they used to stop it at step
-        // 0 or 1 as a "blow-up" blaming the time step, exit code 3).
-        json s = small_scene();
-        s["domain"]["periodic"] = "xy";
-        s["grains"][0]["placement"] = {{"method", "list"}, {"positions", {{"1 mm", "1 mm", "1 mm"}, {"3 mm", "3 mm", "5 parsecs"}}}};
-        expect_refused(dir, "list_bad_unit", s, "/grains/0/placement/positions/1/2");
-        s["grains"][0]["placement"]["positions"][1] = {"3 mm", "3 mm", "9 mm"};
-        expect_refused(dir, "list_outside_closed_axis", s, "/grains/0/placement/positions/1");
-        s["grains"][0]["placement"]["positions"][1] = {"1 mm", "1 mm", "1.5 mm"};
-        const Result r = expect_refused(dir, "list_overlapping", s, "/grains/0/placement");
-        CHECK(r.err.find("overlap") != std::string::npos);
-        s["grains"][0]["placement"]["positions"][1] = {"1 mm", "1 mm", "-3 mm"};  // x, y periodic: fine in x, y only
-        expect_refused(dir, "list_below_closed_axis", s, "/grains/0/placement/positions/1");
-    }
-    {
-        // Two random batches in the same region are packed independently and overlap.
-        json s = small_scene();
-        s["materials"].push_back({{"name", "steel"}, {"density", "7800 kg/m3"}, {"youngs_modulus", "10 MPa"}});
-        s["grains"][0]["placement"]["volume_fraction"] = 0.2;
-        json second = s["grains"][0];
-        second["material"] = "steel";
-        s["grains"].push_back(second);
-        const Result r = expect_refused(dir, "overlapping_batches", s, "/grains/1/placement");
-        CHECK(r.err.find("/grains/0") != std::string::npos);
-        // In disjoint regions they are fine.
-        s["grains"][0]["placement"]["region"] = {{"lo", {0, 0, 0}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};
-        s["grains"][1]["placement"]["region"] = {{"lo", {0, 0, "3 mm"}}, {"hi", {"6 mm", "6 mm", "6 mm"}}};
-        s["domain"]["periodic"] = "xy";
-        s["walls"] = {{{"name", "floor"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
-                      {{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, "6 mm"}}, {"normal", {0, 0, -1}}}};
-        const Result ok = run_scene(dir, "disjoint_batches", s);
-        CAPTURE(ok.err);
-        CHECK(ok.exit_code == 0);
-    }
-}
-
-TEST_CASE("cli: a missing scene file and invalid JSON are refused with exit code 2") {
-    TempDir dir;
-    const Result missing = mrjam(dir, "run " + quote(dir.file("no_such_scene.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(missing.exit_code == 2);
-    CHECK(missing.err.find("no_such_scene.json") != std::string::npos);
-    CHECK(missing.err.find("cannot open") != std::string::npos);
-
-    write_text(dir.file("broken.json"), "{\"seed\": 1, \"domain\": {\"lo\": [0, 0, 0],,}");
-    const Result broken = mrjam(dir, "run " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(broken.exit_code == 2);
-    CHECK(broken.err.find("broken.json") != std::string::npos);
-    CHECK(broken.err.find("not valid JSON") != std::string::npos);
-
-    // A key given twice: the parser kept the last one without a word. Named by its path, also
-    // inside arrays; the same key in two different objects is fine.
-    write_text(dir.file("twice.json"), R"({"seed": 1, "grains": [{"size": 1}, {"material": "a", "material": "b"}]})");
-    const Result twice = mrjam(dir, "run " + quote(dir.file("twice.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(twice.exit_code == 2);
-    CHECK(twice.err.find("/grains/1/material") != std::string::npos);
-    CHECK(twice.err.find("twice") != std::string::npos);
-    write_text(dir.file("same_key_apart.json"), R"({"a": {"x": 1}, "b": [{"x": 1}, {"x": 2}]})");
-    const Result apart = mrjam(dir, "run " + quote(dir.file("same_key_apart.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(apart.exit_code == 2);
-    CHECK(apart.err.find("twice") == std::string::npos);  // refused for its missing keys, not for x
-
-    write_text(dir.file("array.json"), "[1, 2, 3]");
-    const Result array = mrjam(dir, "run " + quote(dir.file("array.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(array.exit_code == 2);
-    CHECK(array.err.find("expected a JSON object") != std::string::npos);
-    CHECK_FALSE(fs::exists(dir.file("r.json")));
-
-    const Result bad_checkpoint = mrjam(dir, "run --resume " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
-    CHECK(bad_checkpoint.exit_code != 0);
-    CHECK(bad_checkpoint.err.find("not an mrjam checkpoint") != std::string::npos);
-}
-
-TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends") {
-    TempDir dir;
-    // Stages of 150 and 100 steps. The reference run checkpoints only at step 200 (every 200),
-    // inside the second stage, whose flow was set by the first (a resume used to lose it: the
-    // checkpoint does not store the flow); the second run only at step 130 (every 130; 260 is
-    // past the end), inside the first stage, so its resume crosses the stage boundary.
-    for (const long every : {200L, 130L}) {
-        CAPTURE(every);
-        const std::string name = "two_stage_" + std::to_string(every);
-        const std::string ck = dir.file(name + ".mrjam");
-        const Result full = run_scene(dir, name, two_stage_scene(every, ck, dir.file("out")));
-        CAPTURE(full.err);
-        REQUIRE(full.exit_code == 0);
-        REQUIRE(fs::exists(ck));
-        const json a = read_report(dir, name);
-        REQUIRE(a["status"] == "complete");
-        REQUIRE(a["results"]["steps"] == 250);
-
-        const Result resumed = mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
-        CAPTURE(resumed.err);
-        REQUIRE(resumed.exit_code == 0);
-        const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
-        CHECK(b["status"] == "complete");
-        CHECK(b["performance"]["steps_run"] == 250 - every);
-        const json& ra = a["results"];
-        const json& rb = b["results"];
-        CHECK(rb["steps"] == 250);
-        CHECK(rb["simulated_time_s"].get<double>() == ra["simulated_time_s"].get<double>());
-        CHECK(rb["kinetic_energy_J"].get<double>() == rel(ra["kinetic_energy_J"].get<double>()).epsilon(1e-12));
-        CHECK(rb["rotational_energy_J"].get<double>() == rel(ra["rotational_energy_J"].get<double>()).epsilon(1e-12));
-        CHECK(rb["elastic_energy_J"].get<double>() == rel(ra["elastic_energy_J"].get<double>()).epsilon(1e-12));
-        CHECK(rb["contacts"] == ra["contacts"]);
-        CHECK(rb["walls"] == ra["walls"]);  // forces and positions of floor and the moving lid
-        // The report of the resumed run still lists both stages, and its inputs are the scene's.
-        CHECK(rb["stages"].size() == 2);
-        CHECK(rb["stages"] == ra["stages"]);
-        CHECK(b["inputs"] == a["inputs"]);
-        CHECK(b["seed"] == a["seed"]);
-        if (every != 200) continue;
-        // The same state as version 6 wrote it (no checksum) still resumes, to the same end.
-        std::string v6 = slurp(ck);
-        v6.resize(v6.size() - 8);
-        v6[7] = '6';  // "MRJAMCK6"
-        write_text(dir.file("v6.mrjam"), v6);
-        const Result old = mrjam(dir, "run --resume " + quote(dir.file("v6.mrjam")) + " --report " + quote(dir.file("v6.json")) + " --quiet");
-        CAPTURE(old.err);
-        REQUIRE(old.exit_code == 0);
-        CHECK(json::parse(slurp(dir.file("v6.json")))["results"] == rb);
-        // Damaged copies are bad input to --resume, named, whatever the damage: a length field
-        // that promises more than the file holds (it asked for a huge allocation), and a cut file.
-        std::string bytes = slurp(ck);
-        const std::size_t scene_text = bytes.find('{');
-        REQUIRE(scene_text != std::string::npos);
-        REQUIRE(scene_text >= 8);
-        const std::uint64_t huge = 1ull << 50;
-        std::memcpy(bytes.data() + scene_text - 8, &huge, sizeof huge);  // the scene's length
-        mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the length's own check
-        write_text(dir.file("long_length.mrjam"), bytes);
-        write_text(dir.file("cut.mrjam"), slurp(ck).substr(0, slurp(ck).size() / 2));
-        // One bit flipped in the grains' state: without the checksum it ran, from the wrong state.
-        std::string flipped = slurp(ck);
-        flipped[flipped.size() / 2] ^= 1;
-        write_text(dir.file("flipped.mrjam"), flipped);
-        for (const char* damaged : {"long_length.mrjam", "cut.mrjam", "flipped.mrjam"}) {
-            CAPTURE(damaged);
-            const Result r = mrjam(dir, "run --resume " + quote(dir.file(damaged)) + " --report " + quote(dir.file("d.json")) + " --quiet");
-            CHECK(r.exit_code == 2);
-            CHECK(r.err.find("--resume") != std::string::npos);
-            CHECK(r.err.find(damaged) != std::string::npos);
-            if (std::string(damaged) == "flipped.mrjam") CHECK(r.err.find("checksum") != std::string::npos);
-            if (std::string(damaged) == "long_length.mrjam") CHECK(r.err.find("longer than the rest") != std::string::npos);
+    TEST_CASE("cli: bad scenes are refused with exit code 2 and the JSON path of the bad field") {
+        TempDir dir;
+        {
+            json s = small_scene();
+            s["materials"][0]["densty"] = 7800;  // an extra, misspelt key
+            expect_refused(dir, "unknown_key", s, "/materials/0/densty");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0].erase("density");
+            s["materials"][0]["densty"] = "2500 kg/m3";  // the required key misspelt
+            const Result r = expect_refused(dir, "misspelt_required_key", s, "/materials/0/densty");
+            CHECK(r.err.find("/materials/0/density") != std::string::npos);
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["sizes"] = s["grains"][0]["size"];
+            expect_refused(dir, "unknown_key_in_grains", s, "/grains/0/sizes");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["restitution"] = "high";
+            expect_refused(dir, "wrong_type_string", s, "/materials/0/restitution");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["friction"] = true;
+            expect_refused(dir, "wrong_type_bool", s, "/materials/0/friction");
+        }
+        {
+            // A per-pair friction must name two defined materials and a friction that is not negative.
+            json s = small_scene();
+            s["material_pairs"] = {{{"materials", {"glass", "steel"}}, {"friction", 0}}};
+            expect_refused(dir, "pair_unknown_material", s, "/material_pairs/0/materials");
+            s["material_pairs"] = {{{"materials", "glass"}}};
+            expect_refused(dir, "pair_not_two", s, "/material_pairs/0/materials");
+            s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"friction", -0.1}}};
+            expect_refused(dir, "pair_negative_friction", s, "/material_pairs/0/friction");
+            s["material_pairs"] = {{{"materials", {"glass", "glass"}}, {"cohesion_energy_density", "-5 kJ/m3"}}};
+            expect_refused(dir, "pair_negative_cohesion", s, "/material_pairs/0/cohesion_energy_density");
+        }
+        {
+            json s = small_scene();
+            s["seed"] = 1.5;
+            expect_refused(dir, "wrong_type_seed", s, "/seed");
+        }
+        {
+            // A duration past any run's reach (here 1e30 s) once wrapped the step count round to a
+            // one-step run reported as complete.
+            json s = small_scene();
+            s["run"] = {{"duration", 1e30}};
+            const Result r = expect_refused(dir, "duration_overflow", s, "/run/duration");
+            CHECK(r.err.find("steps") != std::string::npos);
+            s["run"] = {{"duration", "1 ms"}, {"timestep", "1e-30 s"}};
+            expect_refused(dir, "timestep_tiny", s, "/run/duration");
+            // Nothing sets a time scale: no contact law, drag or damping.
+            s = small_scene();
+            s["contact"] = {{"model", "none"}};
+            expect_refused(dir, "no_step_limit", s, "/run/timestep");
+        }
+        {
+            // Grains placed where they cannot stay: a region reaching past a closed face, a plane
+            // wall through the region; both ended as a blow-up at the first step.
+            json s = small_scene();
+            s["domain"]["periodic"] = "xy";
+            s["grains"][0]["placement"]["volume_fraction"] = 0.1;
+            s["grains"][0]["placement"]["region"] = {{"lo", {0, 0, "-2 mm"}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};
+            expect_refused(dir, "region_past_closed_face", s, "/grains/0/placement/region");
+            s["grains"][0]["placement"]["region"] = {{"lo", {"-2 mm", 0, 0}},
+                                                     {"hi", {"6 mm", "6 mm", "3 mm"}}};  // x is periodic: fine
+            s["walls"] = {{{"name", "shelf"}, {"type", "plane"}, {"point", {0, 0, "1.5 mm"}}, {"normal", {0, 0, 1}}}};
+            const Result r = expect_refused(dir, "wall_through_grains", s, "/walls/0");
+            CHECK(r.err.find("shelf") != std::string::npos);
+        }
+        {
+            // Names that something else refers to must be given, and once.
+            json s = small_scene();
+            s["domain"]["periodic"] = "xx";
+            expect_refused(dir, "axis_twice", s, "/domain/periodic");
+            s = small_scene();
+            s["materials"][0]["name"] = "";
+            expect_refused(dir, "material_unnamed", s, "/materials/0/name");
+            s = small_scene();
+            s["domain"]["periodic"] = "xy";
+            s["walls"] = {{{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
+                          {{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, "6 mm"}}, {"normal", {0, 0, -1}}}};
+            expect_refused(dir, "wall_name_twice", s, "/walls/1/name");
+        }
+        {
+            // A lattice period longer than the periodic box (an internal error, exit 1, before).
+            json s = small_scene();
+            s["grains"][0]["placement"] = {{"method", "lattice"}, {"spacing", "1 m"}};
+            expect_refused(dir, "lattice_longer_than_box", s, "/grains/0/placement/spacing");
+        }
+        {
+            // Where the run writes: an output directory a file is in the way of, and a checkpoint
+            // that could not be saved (found out only at Ctrl-C, it lost the whole run).
+            write_text(dir.file("a_file"), "x");
+            json s = small_scene();
+            s["output"] = {{"directory", dir.file("a_file")}};
+            expect_refused(dir, "output_is_a_file", s, "/output/directory");
+            s["output"] = {{"directory", dir.file("out")},
+                           {"checkpoint", {{"path", dir.file("a_file") + "/ck.mrjam"}}}};
+            expect_refused(dir, "checkpoint_under_a_file", s, "/output/checkpoint/path");
+            s["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("out")}}}};
+            expect_refused(dir, "checkpoint_is_a_directory", s, "/output/checkpoint/path");
+        }
+        {
+            // Rafts: two of one name in one stage would be one raft at the second's velocity; a
+            // release or a velocity must name a raft formed by then.
+            json s = small_scene();
+            s["run"].erase("steps");
+            const json region = {{"lo", {0, 0, 0}}, {"hi", {"6 mm", "6 mm", "1 mm"}}};
+            s["stages"] = {
+                {{"name", "a"},
+                 {"steps", 10},
+                 {"form_rafts", {{{"name", "lower"}, {"region", region}}, {{"name", "lower"}, {"region", region}}}}}};
+            expect_refused(dir, "raft_twice", s, "/stages/0/form_rafts/1/name");
+            s["stages"] = {{{"name", "a"}, {"steps", 10}, {"release", {"lower"}}}};
+            expect_refused(dir, "release_unformed", s, "/stages/0/release");
+            s["stages"] = {
+                {{"name", "a"}, {"steps", 10}, {"raft_velocities", {{{"name", "lower"}, {"velocity", {0, 0, 0}}}}}}};
+            expect_refused(dir, "velocity_unformed", s, "/stages/0/raft_velocities/0/name");
+            s["stages"] = {{{"name", "a"}, {"steps", 10}, {"form_rafts", {{{"name", "lower"}, {"region", region}}}}},
+                           {{"name", "b"}, {"duration", 1e30}, {"release", {"lower"}}}};
+            expect_refused(dir, "stage_duration_overflow", s, "/stages/1/duration");
+        }
+        {
+            json s = small_scene();
+            s["domain"]["hi"] = {"6 mm", "6 mm"};
+            expect_refused(dir, "wrong_type_vector", s, "/domain/hi");
+        }
+        {
+            json s = small_scene();
+            s["grains"] = {{"material", "glass"}};  // an object, not an array
+            expect_refused(dir, "wrong_type_array", s, "/grains");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"]["diameter"] = "-1 mm";
+            expect_refused(dir, "negative_diameter", s, "/grains/0/size/diameter");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"]["diameter"] = 0;
+            expect_refused(dir, "zero_diameter", s, "/grains/0/size/diameter");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"] = {
+                {"distribution", "table"}, {"diameters", {"1 mm", "-0.5 mm"}}, {"frequencies", {1, 1}}};
+            expect_refused(dir, "negative_table_diameter", s, "/grains/0/size/diameters");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"] = {{"distribution", "lognormal"}, {"median_diameter", "-1 mm"}, {"sigma_ln", 0.2}};
+            expect_refused(dir, "negative_median", s, "/grains/0/size/median_diameter");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["restitution"] = 0;
+            expect_refused(dir, "restitution_0", s, "/materials/0/restitution");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["restitution"] = 1.5;
+            expect_refused(dir, "restitution_1.5", s, "/materials/0/restitution");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["placement"]["volume_fraction"] = 0.7;
+            const Result r = expect_refused(dir, "volume_fraction_0.7", s, "/grains/0/placement/volume_fraction");
+            CHECK(r.err.find("0.64") != std::string::npos);
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"]["diameter"] = "7 mm";  // the box is 6 mm
+            expect_refused(dir, "grain_larger_than_box", s, "/grains/0/size");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"]["diameter"] = "2.8 mm";  // fits, but a 6 mm period is < 2 cutoffs
+            expect_refused(dir, "period_too_short", s, "/domain/hi");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["size"]["diameter"] = "6.7 parsecs";
+            const Result r = expect_refused(dir, "bad_unit", s, "/grains/0/size/diameter");
+            CHECK(r.err.find("parsecs") != std::string::npos);
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["youngs_modulus"] = "10 MPa s";  // a viscosity, not a modulus
+            expect_refused(dir, "wrong_dimension", s, "/materials/0/youngs_modulus");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["youngs_modulus"] = 1e-300;  // blew up (exit 3) before the range was checked
+            expect_refused(dir, "absurd_modulus", s, "/materials/0/youngs_modulus");
+        }
+        {
+            json s = small_scene();
+            s["materials"][0]["density"] = "2500 mg/m3";  // 2.5e-3 kg/m3, less than air
+            expect_refused(dir, "absurd_density", s, "/materials/0/density");
+        }
+        {
+            json s = small_scene();
+            s["run"]["timestep"] = "1 ms";
+            const Result r = expect_refused(dir, "timestep_above_limit", s, "/run/timestep");
+            CHECK(r.err.find("stable limit") != std::string::npos);
+        }
+        {
+            json s = small_scene();
+            s["run"].erase("steps");
+            expect_refused(dir, "no_length", s, "/run/steps");
+        }
+        {
+            json s = small_scene();
+            s["grains"][0]["material"] = "steel";
+            expect_refused(dir, "unknown_material", s, "/grains/0/material");
+        }
+        {
+            json s = small_scene();
+            s["domain"]["periodic"] = "xw";
+            expect_refused(dir, "bad_axis", s, "/domain/periodic");
+        }
+        {
+            json s = small_scene();
+            s["domain"]["hi"] = {"6 mm", "-6 mm", "6 mm"};
+            expect_refused(dir, "inverted_box", s, "/domain/hi");
+        }
+        {
+            // Listed grains: a bad unit names the component; a centre outside a closed axis and two
+            // grains on top of each other are refused before the run (they used to stop it at step
+            // 0 or 1 as a "blow-up" blaming the time step, exit code 3).
+            json s = small_scene();
+            s["domain"]["periodic"] = "xy";
+            s["grains"][0]["placement"] = {{"method", "list"},
+                                           {"positions", {{"1 mm", "1 mm", "1 mm"}, {"3 mm", "3 mm", "5 parsecs"}}}};
+            expect_refused(dir, "list_bad_unit", s, "/grains/0/placement/positions/1/2");
+            s["grains"][0]["placement"]["positions"][1] = {"3 mm", "3 mm", "9 mm"};
+            expect_refused(dir, "list_outside_closed_axis", s, "/grains/0/placement/positions/1");
+            s["grains"][0]["placement"]["positions"][1] = {"1 mm", "1 mm", "1.5 mm"};
+            const Result r = expect_refused(dir, "list_overlapping", s, "/grains/0/placement");
+            CHECK(r.err.find("overlap") != std::string::npos);
+            s["grains"][0]["placement"]["positions"][1] = {"1 mm", "1 mm",
+                                                           "-3 mm"};  // x, y periodic: fine in x, y only
+            expect_refused(dir, "list_below_closed_axis", s, "/grains/0/placement/positions/1");
+        }
+        {
+            // Two random batches in the same region are packed independently and overlap.
+            json s = small_scene();
+            s["materials"].push_back({{"name", "steel"}, {"density", "7800 kg/m3"}, {"youngs_modulus", "10 MPa"}});
+            s["grains"][0]["placement"]["volume_fraction"] = 0.2;
+            json second = s["grains"][0];
+            second["material"] = "steel";
+            s["grains"].push_back(second);
+            const Result r = expect_refused(dir, "overlapping_batches", s, "/grains/1/placement");
+            CHECK(r.err.find("/grains/0") != std::string::npos);
+            // In disjoint regions they are fine.
+            s["grains"][0]["placement"]["region"] = {{"lo", {0, 0, 0}}, {"hi", {"6 mm", "6 mm", "3 mm"}}};
+            s["grains"][1]["placement"]["region"] = {{"lo", {0, 0, "3 mm"}}, {"hi", {"6 mm", "6 mm", "6 mm"}}};
+            s["domain"]["periodic"] = "xy";
+            s["walls"] = {{{"name", "floor"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
+                          {{"name", "lid"}, {"type", "plane"}, {"point", {0, 0, "6 mm"}}, {"normal", {0, 0, -1}}}};
+            const Result ok = run_scene(dir, "disjoint_batches", s);
+            CAPTURE(ok.err);
+            CHECK(ok.exit_code == 0);
         }
     }
-}
 
-TEST_CASE("cli: SIGINT writes a checkpoint and exits 130; resuming it ends where the full run ends") {
-    TempDir dir;
-    // About 2300 grains for 10000 steps: ~1 s of work on one core, interrupted after 0.4 s.
-    json scene = small_scene();
-    scene["seed"] = 31;
-    scene["domain"]["hi"] = {"16 mm", "16 mm", "16 mm"};
-    scene["run"]["steps"] = 10000;
-    scene["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("interrupted.mrjam")}}}};
-    const Result full = run_scene(dir, "full", scene);
-    REQUIRE(full.exit_code == 0);
-    const json a = read_report(dir, "full");
+    TEST_CASE("cli: a missing scene file and invalid JSON are refused with exit code 2") {
+        TempDir dir;
+        const Result missing =
+            mrjam(dir, "run " + quote(dir.file("no_such_scene.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(missing.exit_code == 2);
+        CHECK(missing.err.find("no_such_scene.json") != std::string::npos);
+        CHECK(missing.err.find("cannot open") != std::string::npos);
 
-    write_text(dir.file("interrupt.json"), scene.dump(2));
-    const Result cut = mrjam(dir, "run " + quote(dir.file("interrupt.json")) + " --report " + quote(dir.file("cut.json")) +
-                                      " --quiet",
-                          " & pid=$!; sleep 0.4; kill -INT $pid; wait $pid");
-    if (cut.exit_code == 0) {
-        MESSAGE("the run finished before the signal arrived (a fast machine): nothing to resume");
-        return;
+        write_text(dir.file("broken.json"), "{\"seed\": 1, \"domain\": {\"lo\": [0, 0, 0],,}");
+        const Result broken =
+            mrjam(dir, "run " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(broken.exit_code == 2);
+        CHECK(broken.err.find("broken.json") != std::string::npos);
+        CHECK(broken.err.find("not valid JSON") != std::string::npos);
+
+        // A key given twice: the parser kept the last one without a word. Named by its path, also
+        // inside arrays; the same key in two different objects is fine.
+        write_text(dir.file("twice.json"),
+                   R"({"seed": 1, "grains": [{"size": 1}, {"material": "a", "material": "b"}]})");
+        const Result twice =
+            mrjam(dir, "run " + quote(dir.file("twice.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(twice.exit_code == 2);
+        CHECK(twice.err.find("/grains/1/material") != std::string::npos);
+        CHECK(twice.err.find("twice") != std::string::npos);
+        write_text(dir.file("same_key_apart.json"), R"({"a": {"x": 1}, "b": [{"x": 1}, {"x": 2}]})");
+        const Result apart =
+            mrjam(dir, "run " + quote(dir.file("same_key_apart.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(apart.exit_code == 2);
+        CHECK(apart.err.find("twice") == std::string::npos);  // refused for its missing keys, not for x
+
+        write_text(dir.file("array.json"), "[1, 2, 3]");
+        const Result array =
+            mrjam(dir, "run " + quote(dir.file("array.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(array.exit_code == 2);
+        CHECK(array.err.find("expected a JSON object") != std::string::npos);
+        CHECK_FALSE(fs::exists(dir.file("r.json")));
+
+        const Result bad_checkpoint =
+            mrjam(dir, "run --resume " + quote(dir.file("broken.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(bad_checkpoint.exit_code != 0);
+        CHECK(bad_checkpoint.err.find("not an mrjam checkpoint") != std::string::npos);
     }
-    CAPTURE(cut.err);
-    REQUIRE(cut.exit_code == 130);
-    if (!fs::exists(dir.file("cut.json"))) {
-        MESSAGE("the signal arrived before the run started (a loaded machine): nothing to resume");
-        return;
+
+    TEST_CASE("cli: resuming from a checkpoint ends where the uninterrupted run ends") {
+        TempDir dir;
+        // Stages of 150 and 100 steps. The reference run checkpoints only at step 200 (every 200),
+        // inside the second stage, whose flow was set by the first (a resume used to lose it: the
+        // checkpoint does not store the flow); the second run only at step 130 (every 130; 260 is
+        // past the end), inside the first stage, so its resume crosses the stage boundary.
+        for (const long every : {200L, 130L}) {
+            CAPTURE(every);
+            const std::string name = "two_stage_" + std::to_string(every);
+            const std::string ck = dir.file(name + ".mrjam");
+            const Result full = run_scene(dir, name, two_stage_scene(every, ck, dir.file("out")));
+            CAPTURE(full.err);
+            REQUIRE(full.exit_code == 0);
+            REQUIRE(fs::exists(ck));
+            const json a = read_report(dir, name);
+            REQUIRE(a["status"] == "complete");
+            REQUIRE(a["results"]["steps"] == 250);
+
+            const Result resumed = mrjam(
+                dir, "run --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+            CAPTURE(resumed.err);
+            REQUIRE(resumed.exit_code == 0);
+            const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+            CHECK(b["status"] == "complete");
+            CHECK(b["performance"]["steps_run"] == 250 - every);
+            const json& ra = a["results"];
+            const json& rb = b["results"];
+            CHECK(rb["steps"] == 250);
+            CHECK(rb["simulated_time_s"].get<double>() == ra["simulated_time_s"].get<double>());
+            CHECK(rb["kinetic_energy_J"].get<double>() == rel(ra["kinetic_energy_J"].get<double>()).epsilon(1e-12));
+            CHECK(rb["rotational_energy_J"].get<double>() ==
+                  rel(ra["rotational_energy_J"].get<double>()).epsilon(1e-12));
+            CHECK(rb["elastic_energy_J"].get<double>() == rel(ra["elastic_energy_J"].get<double>()).epsilon(1e-12));
+            CHECK(rb["contacts"] == ra["contacts"]);
+            CHECK(rb["walls"] == ra["walls"]);  // forces and positions of floor and the moving lid
+            // The report of the resumed run still lists both stages, and its inputs are the scene's.
+            CHECK(rb["stages"].size() == 2);
+            CHECK(rb["stages"] == ra["stages"]);
+            CHECK(b["inputs"] == a["inputs"]);
+            CHECK(b["seed"] == a["seed"]);
+            if (every != 200) continue;
+            // The same state as version 6 wrote it (no checksum) still resumes, to the same end.
+            std::string v6 = slurp(ck);
+            v6.resize(v6.size() - 8);
+            v6[7] = '6';  // "MRJAMCK6"
+            write_text(dir.file("v6.mrjam"), v6);
+            const Result old = mrjam(dir, "run --resume " + quote(dir.file("v6.mrjam")) + " --report " +
+                                              quote(dir.file("v6.json")) + " --quiet");
+            CAPTURE(old.err);
+            REQUIRE(old.exit_code == 0);
+            CHECK(json::parse(slurp(dir.file("v6.json")))["results"] == rb);
+            // Damaged copies are bad input to --resume, named, whatever the damage: a length field
+            // that promises more than the file holds (it asked for a huge allocation), and a cut file.
+            std::string bytes = slurp(ck);
+            const std::size_t scene_text = bytes.find('{');
+            REQUIRE(scene_text != std::string::npos);
+            REQUIRE(scene_text >= 8);
+            const std::uint64_t huge = 1ull << 50;
+            std::memcpy(bytes.data() + scene_text - 8, &huge, sizeof huge);  // the scene's length
+            mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the length's own check
+            write_text(dir.file("long_length.mrjam"), bytes);
+            write_text(dir.file("cut.mrjam"), slurp(ck).substr(0, slurp(ck).size() / 2));
+            // One bit flipped in the grains' state: without the checksum it ran, from the wrong state.
+            std::string flipped = slurp(ck);
+            flipped[flipped.size() / 2] ^= 1;
+            write_text(dir.file("flipped.mrjam"), flipped);
+            for (const char* damaged : {"long_length.mrjam", "cut.mrjam", "flipped.mrjam"}) {
+                CAPTURE(damaged);
+                const Result r = mrjam(dir, "run --resume " + quote(dir.file(damaged)) + " --report " +
+                                                quote(dir.file("d.json")) + " --quiet");
+                CHECK(r.exit_code == 2);
+                CHECK(r.err.find("--resume") != std::string::npos);
+                CHECK(r.err.find(damaged) != std::string::npos);
+                if (std::string(damaged) == "flipped.mrjam") CHECK(r.err.find("checksum") != std::string::npos);
+                if (std::string(damaged) == "long_length.mrjam")
+                    CHECK(r.err.find("longer than the rest") != std::string::npos);
+            }
+        }
     }
-    const json c = json::parse(slurp(dir.file("cut.json")));
-    CHECK(c["status"] == "interrupted");
-    CHECK(c["partial"] == true);
-    CHECK(c["checkpoint"] == dir.file("interrupted.mrjam"));
-    CHECK(c["resume_with"].get<std::string>().find("--resume") != std::string::npos);
-    const long stopped = c["results"]["steps"].get<long>();
-    CHECK(stopped < 10000);
-    REQUIRE(fs::exists(dir.file("interrupted.mrjam")));
 
-    const Result resumed = mrjam(dir, "run --resume " + quote(dir.file("interrupted.mrjam")) + " --report " +
-                                          quote(dir.file("resumed.json")) + " --quiet");
-    CAPTURE(resumed.err);
-    REQUIRE(resumed.exit_code == 0);
-    const json b = json::parse(slurp(dir.file("resumed.json")));
-    CHECK(b["status"] == "complete");
-    CHECK(b["performance"]["steps_run"] == 10000 - stopped);
-    CHECK(b["results"]["steps"] == 10000);
-    CHECK(b["results"]["simulated_time_s"].get<double>() == a["results"]["simulated_time_s"].get<double>());
-    CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
-          rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-12));
-    CHECK(b["results"]["contacts"] == a["results"]["contacts"]);
-}
+    TEST_CASE("cli: SIGINT writes a checkpoint and exits 130; resuming it ends where the full run ends") {
+        TempDir dir;
+        // About 2300 grains for 10000 steps: ~1 s of work on one core, interrupted after 0.4 s.
+        json scene = small_scene();
+        scene["seed"] = 31;
+        scene["domain"]["hi"] = {"16 mm", "16 mm", "16 mm"};
+        scene["run"]["steps"] = 10000;
+        scene["output"] = {{"directory", dir.file("out")}, {"checkpoint", {{"path", dir.file("interrupted.mrjam")}}}};
+        const Result full = run_scene(dir, "full", scene);
+        REQUIRE(full.exit_code == 0);
+        const json a = read_report(dir, "full");
 
-TEST_CASE("cli: a raft over the whole periodic box takes every grain, also those that crossed a face") {
-    // All grains drift at 0.1 m/s along x for 0.4 ms (40 um, less than half the skin, so no list
-    // rebuild wraps them back); the grains that crossed x = 16 mm sit just beyond the box until
-    // the next rebuild. A raft whose region is the whole box must still take them all (it used
-    // to miss them: 10 of 2347 grains).
-    TempDir dir;
-    json scene = small_scene();
-    scene["domain"]["hi"] = {"16 mm", "16 mm", "16 mm"};
-    scene["grains"][0].erase("random_velocity");
-    scene["grains"][0]["velocity"] = {"0.1 m/s", 0, 0};
-    scene["run"] = json::object();
-    scene["stages"] = {{{"name", "drift"}, {"duration", "0.4 ms"}},
-                       {{"name", "freeze"}, {"steps", 1},
-                        {"form_rafts", {{{"name", "all"}, {"region", {{"lo", {0, 0, 0}}, {"hi", {"16 mm", "16 mm", "16 mm"}}}}}}}}};
-    const Result r = run_scene(dir, "raft", scene);
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json rep = read_report(dir, "raft");
-    const json& drift = rep["results"]["stages"][0]["state"];
-    CHECK(drift["neighbour_builds"] == 1);  // the premise: nothing wrapped the grains back
-    REQUIRE(rep["results"]["rafts"].size() == 1);
-    CHECK(rep["results"]["rafts"][0]["grains"] == rep["results"]["grains"]);
-}
+        write_text(dir.file("interrupt.json"), scene.dump(2));
+        const Result cut = mrjam(
+            dir, "run " + quote(dir.file("interrupt.json")) + " --report " + quote(dir.file("cut.json")) + " --quiet",
+            " & pid=$!; sleep 0.4; kill -INT $pid; wait $pid");
+        if (cut.exit_code == 0) {
+            MESSAGE("the run finished before the signal arrived (a fast machine): nothing to resume");
+            return;
+        }
+        CAPTURE(cut.err);
+        REQUIRE(cut.exit_code == 130);
+        if (!fs::exists(dir.file("cut.json"))) {
+            MESSAGE("the signal arrived before the run started (a loaded machine): nothing to resume");
+            return;
+        }
+        const json c = json::parse(slurp(dir.file("cut.json")));
+        CHECK(c["status"] == "interrupted");
+        CHECK(c["partial"] == true);
+        CHECK(c["checkpoint"] == dir.file("interrupted.mrjam"));
+        CHECK(c["resume_with"].get<std::string>().find("--resume") != std::string::npos);
+        const long stopped = c["results"]["steps"].get<long>();
+        CHECK(stopped < 10000);
+        REQUIRE(fs::exists(dir.file("interrupted.mrjam")));
 
-// Benchmarks take their options as a command does its scene: a value with no meaning (a grain
-// of permeability 1 tabled NaN ratios with exit 0), too few grains, and an output path that
-// cannot be written (found after the whole benchmark) are refused at once, naming the option.
-TEST_CASE("cli: bench options that cannot give a result are refused before the benchmark") {
-    TempDir dir;
-    write_text(dir.file("a_file"), "x");
-    for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
-             {"bench sphere-pair --permeability 1", "--permeability"},
-             {"bench sphere-pair --permeability nan", "--permeability"},
-             {"bench sphere-pair --gap 1e-300", "--gap"},
-             {"bench sphere-pair --gap 1e308", "--gap"},
-             {"bench contact --grains 20 --steps 1 --json " + quote(dir.file("")), "--json"},
-             {"bench contact --grains 20 --steps 1 --write-data " + quote(dir.file("a_file") + "/d.data"), "--write-data"},
-             {"bench flow --json " + quote(dir.file("a_file") + "/f.json"), "--json"},
-             {"bench magnetic-accuracy --grains 16", "--grains"}}) {
-        CAPTURE(args);
-        const Result r = mrjam(dir, args);
+        const Result resumed = mrjam(dir, "run --resume " + quote(dir.file("interrupted.mrjam")) + " --report " +
+                                              quote(dir.file("resumed.json")) + " --quiet");
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json b = json::parse(slurp(dir.file("resumed.json")));
+        CHECK(b["status"] == "complete");
+        CHECK(b["performance"]["steps_run"] == 10000 - stopped);
+        CHECK(b["results"]["steps"] == 10000);
+        CHECK(b["results"]["simulated_time_s"].get<double>() == a["results"]["simulated_time_s"].get<double>());
+        CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
+              rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-12));
+        CHECK(b["results"]["contacts"] == a["results"]["contacts"]);
+    }
+
+    TEST_CASE("cli: a raft over the whole periodic box takes every grain, also those that crossed a face") {
+        // All grains drift at 0.1 m/s along x for 0.4 ms (40 um, less than half the skin, so no list
+        // rebuild wraps them back); the grains that crossed x = 16 mm sit just beyond the box until
+        // the next rebuild. A raft whose region is the whole box must still take them all (it used
+        // to miss them: 10 of 2347 grains).
+        TempDir dir;
+        json scene = small_scene();
+        scene["domain"]["hi"] = {"16 mm", "16 mm", "16 mm"};
+        scene["grains"][0].erase("random_velocity");
+        scene["grains"][0]["velocity"] = {"0.1 m/s", 0, 0};
+        scene["run"] = json::object();
+        scene["stages"] = {
+            {{"name", "drift"}, {"duration", "0.4 ms"}},
+            {{"name", "freeze"},
+             {"steps", 1},
+             {"form_rafts",
+              {{{"name", "all"}, {"region", {{"lo", {0, 0, 0}}, {"hi", {"16 mm", "16 mm", "16 mm"}}}}}}}}};
+        const Result r = run_scene(dir, "raft", scene);
         CAPTURE(r.err);
-        CHECK(r.exit_code == 2);
-        CHECK(r.err.find(option) != std::string::npos);
+        REQUIRE(r.exit_code == 0);
+        const json rep = read_report(dir, "raft");
+        const json& drift = rep["results"]["stages"][0]["state"];
+        CHECK(drift["neighbour_builds"] == 1);  // the premise: nothing wrapped the grains back
+        REQUIRE(rep["results"]["rafts"].size() == 1);
+        CHECK(rep["results"]["rafts"][0]["grains"] == rep["results"]["grains"]);
     }
-}
+
+    // Benchmarks take their options as a command does its scene: a value with no meaning (a grain
+    // of permeability 1 tabled NaN ratios with exit 0), too few grains, and an output path that
+    // cannot be written (found after the whole benchmark) are refused at once, naming the option.
+    TEST_CASE("cli: bench options that cannot give a result are refused before the benchmark") {
+        TempDir dir;
+        write_text(dir.file("a_file"), "x");
+        for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
+                 {"bench sphere-pair --permeability 1", "--permeability"},
+                 {"bench sphere-pair --permeability nan", "--permeability"},
+                 {"bench sphere-pair --gap 1e-300", "--gap"},
+                 {"bench sphere-pair --gap 1e308", "--gap"},
+                 {"bench contact --grains 20 --steps 1 --json " + quote(dir.file("")), "--json"},
+                 {"bench contact --grains 20 --steps 1 --write-data " + quote(dir.file("a_file") + "/d.data"),
+                  "--write-data"},
+                 {"bench flow --json " + quote(dir.file("a_file") + "/f.json"), "--json"},
+                 {"bench magnetic-accuracy --grains 16", "--grains"}}) {
+            CAPTURE(args);
+            const Result r = mrjam(dir, args);
+            CAPTURE(r.err);
+            CHECK(r.exit_code == 2);
+            CHECK(r.err.find(option) != std::string::npos);
+        }
+    }
 
 }  // TEST_SUITE

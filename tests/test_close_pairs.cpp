@@ -80,45 +80,45 @@ double exact_coenergy(double mu, const Vec3& x1, double a) {
 }  // namespace
 
 TEST_SUITE("physics") {
-
-TEST_CASE("close pairs: the corrected engine force on an isolated pair is the exact two-sphere force") {
-    const double a = 10e-6, mu = 1000, b = 0.01, h = b / kMu0, theta = 35 * M_PI / 180;
-    const double s = 2.1;
-    const Vec3 x1{s * a * std::sin(theta), 0, s * a * std::cos(theta)};
-    const Pair pair(a, mu, b, x1, true);
-    // The exact force on grain 1: +grad W' (fixed applied field), by central differences.
-    const double step = 1e-5 * a, unit = 2 * M_PI * kMu0 * a * a * a * h * h;
-    Vec3 exact{};
-    for (int k : {0, 2}) {
-        Vec3 e{};
-        e[k] = step;
-        exact[k] = unit * (exact_coenergy(mu, x1 + e, a) - exact_coenergy(mu, x1 - e, a)) / (2 * step);
+    TEST_CASE("close pairs: the corrected engine force on an isolated pair is the exact two-sphere force") {
+        const double a = 10e-6, mu = 1000, b = 0.01, h = b / kMu0, theta = 35 * M_PI / 180;
+        const double s = 2.1;
+        const Vec3 x1{s * a * std::sin(theta), 0, s * a * std::cos(theta)};
+        const Pair pair(a, mu, b, x1, true);
+        // The exact force on grain 1: +grad W' (fixed applied field), by central differences.
+        const double step = 1e-5 * a, unit = 2 * M_PI * kMu0 * a * a * a * h * h;
+        Vec3 exact{};
+        for (int k : {0, 2}) {
+            Vec3 e{};
+            e[k] = step;
+            exact[k] = unit * (exact_coenergy(mu, x1 + e, a) - exact_coenergy(mu, x1 - e, a)) / (2 * step);
+        }
+        CAPTURE(pair.p.force[1]);
+        CAPTURE(exact);
+        CHECK(norm(pair.p.force[1] - exact) <= 2e-3 * norm(exact));
+        CHECK(norm(pair.p.force[0] + pair.p.force[1]) <= 1e-12 * norm(exact));
+        // The correction matters here: the point dipoles alone are off by far more than the tolerance.
+        const Pair dipoles(a, mu, b, x1, false);
+        CHECK(norm(dipoles.p.force[1] - exact) > 0.2 * norm(exact));
     }
-    CAPTURE(pair.p.force[1]);
-    CAPTURE(exact);
-    CHECK(norm(pair.p.force[1] - exact) <= 2e-3 * norm(exact));
-    CHECK(norm(pair.p.force[0] + pair.p.force[1]) <= 1e-12 * norm(exact));
-    // The correction matters here: the point dipoles alone are off by far more than the tolerance.
-    const Pair dipoles(a, mu, b, x1, false);
-    CHECK(norm(dipoles.p.force[1] - exact) > 0.2 * norm(exact));
-}
 
-TEST_CASE("close pairs: no correction beyond the range") {
-    const double a = 10e-6;
-    const Vec3 x1{0.3 * a, 0, 3.2 * a};  // gap ~1.21 radii > range 1
-    const Pair corrected(a, 1000, 0.01, x1, true), plain(a, 1000, 0.01, x1, false);
-    CHECK(norm(corrected.p.force[1] - plain.p.force[1]) == 0.0);
-}
-
-TEST_CASE("close pairs: a field looked up per grain gives the uniform shortcut's forces") {
-    const double a = 10e-6;
-    const Vec3 x1{1.0 * a, 0.4 * a, 1.8 * a};  // gap ~0.1 radii, off the field's axis
-    const Pair shortcut(a, 1000, 0.01, x1, true);
-    for (int threads : {1, 2}) {
-        CAPTURE(threads);
-        const Pair looked_up(a, 1000, 0.01, x1, true, true, threads);
-        for (int i : {0, 1}) CHECK(norm(looked_up.p.force[i] - shortcut.p.force[i]) <= 1e-12 * norm(shortcut.p.force[i]));
+    TEST_CASE("close pairs: no correction beyond the range") {
+        const double a = 10e-6;
+        const Vec3 x1{0.3 * a, 0, 3.2 * a};  // gap ~1.21 radii > range 1
+        const Pair corrected(a, 1000, 0.01, x1, true), plain(a, 1000, 0.01, x1, false);
+        CHECK(norm(corrected.p.force[1] - plain.p.force[1]) == 0.0);
     }
-}
+
+    TEST_CASE("close pairs: a field looked up per grain gives the uniform shortcut's forces") {
+        const double a = 10e-6;
+        const Vec3 x1{1.0 * a, 0.4 * a, 1.8 * a};  // gap ~0.1 radii, off the field's axis
+        const Pair shortcut(a, 1000, 0.01, x1, true);
+        for (int threads : {1, 2}) {
+            CAPTURE(threads);
+            const Pair looked_up(a, 1000, 0.01, x1, true, true, threads);
+            for (int i : {0, 1})
+                CHECK(norm(looked_up.p.force[i] - shortcut.p.force[i]) <= 1e-12 * norm(shortcut.p.force[i]));
+        }
+    }
 
 }  // TEST_SUITE

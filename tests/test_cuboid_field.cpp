@@ -3,8 +3,6 @@
 // mirror symmetries and the field equations div B = 0, curl B = 0.
 #include <doctest/doctest.h>
 
-#include "rel_approx.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "magnetics/cuboid_field.hpp"
+#include "rel_approx.hpp"
 
 using mrjam_test::rel;
 

@@ -24,12 +24,18 @@ namespace {
 // (10 kPa) throttles the flow during the run (its scale moves between about 0.3 and 1), so its
 // controller's state must survive a resume as well.
 json tiny_scene(const std::string& out, long checkpoint_every) {
-    json scene = {{"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
-                  {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
-                  {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
-                  {"protocol", {{"flow_time", "0.06 ms"}, {"max_time", "0.03 ms"}, {"arrest_window", "0.008 ms"},
-                                {"arrest_fraction", 0.95}, {"release_time", "0.015 ms"}, {"observe_every_steps", 20}}},
-                  {"output", {{"directory", out}}}};
+    json scene = {
+        {"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
+        {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
+        {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
+        {"protocol",
+         {{"flow_time", "0.06 ms"},
+          {"max_time", "0.03 ms"},
+          {"arrest_window", "0.008 ms"},
+          {"arrest_fraction", 0.95},
+          {"release_time", "0.015 ms"},
+          {"observe_every_steps", 20}}},
+        {"output", {{"directory", out}}}};
     if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;
     return scene;
 }
@@ -68,7 +74,8 @@ std::vector<std::int32_t> legacy_int_array(const std::string& file, const std::s
     REQUIRE(line_end + 1 + 4 * n <= file.size());
     for (std::size_t i = 0; i < n; ++i) {
         const auto* b = reinterpret_cast<const unsigned char*>(file.data() + line_end + 1 + 4 * i);
-        values[i] = static_cast<std::int32_t>((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3]);
+        values[i] = static_cast<std::int32_t>((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) |
+                                              (std::uint32_t{b[2]} << 8) | b[3]);
     }
     return values;
 }
@@ -76,424 +83,444 @@ std::vector<std::int32_t> legacy_int_array(const std::string& file, const std::s
 }  // namespace
 
 TEST_SUITE("cli") {
+    TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as the uninterrupted run") {
+        TempDir dir;
+        const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "--seeds 2");
+        CAPTURE(full.err);
+        REQUIRE(full.exit_code == 0);
+        const json a = json::parse(slurp(dir.file("full_report.json")));
+        const std::vector<long> steps = stage_steps(a);
+        REQUIRE(steps.size() == 3);
+        // Without an arrest the release phase ends at its first observation and this test would not
+        // reach it; the scene is made so that the field's slowing counts as one.
+        REQUIRE(a["results"]["jammed"] == true);
+        // The flow was throttled at some point, so a lost flow scale would change the run.
+        double lowest = 1;
+        for (const auto& row : a["results"]["flow_history"]["rows"]) lowest = std::min(lowest, row[1].get<double>());
+        REQUIRE(lowest < 0.9);
+        // An arrest under pressure-driven flow reports how much fluid the closed valve still passes.
+        REQUIRE(a["results"]["closed_flow_share"].is_number());
+        CHECK(a["results"]["closed_flow_share"].get<double>() > 0.0);
+        CHECK(a["seeds"][0]["closed_flow_share"] == a["results"]["closed_flow_share"]);
+        CHECK(a["seeds"][0]["flux_share_last_window"] == a["results"]["flux_share_last_window"]);
+        // The report is seed 1's: seed 2's warnings (here its own sparse arrest window) join it,
+        // named by their seed; they used to reach stderr only.
+        REQUIRE_FALSE(a["seeds"][1]["warnings"].empty());
+        for (const auto& w : a["seeds"][1]["warnings"])
+            CHECK(a["warnings"].dump().find(json("seed " + std::to_string(a["seeds"][1]["seed"].get<long long>()) +
+                                                 ": " + w.get<std::string>())
+                                                .dump()) != std::string::npos);
+        const long total = steps[0] + steps[1] + steps[2];
 
-TEST_CASE("jam --resume: a checkpoint in any phase, or in a later seed, ends as the uninterrupted run") {
-    TempDir dir;
-    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "--seeds 2");
-    CAPTURE(full.err);
-    REQUIRE(full.exit_code == 0);
-    const json a = json::parse(slurp(dir.file("full_report.json")));
-    const std::vector<long> steps = stage_steps(a);
-    REQUIRE(steps.size() == 3);
-    // Without an arrest the release phase ends at its first observation and this test would not
-    // reach it; the scene is made so that the field's slowing counts as one.
-    REQUIRE(a["results"]["jammed"] == true);
-    // The flow was throttled at some point, so a lost flow scale would change the run.
-    double lowest = 1;
-    for (const auto& row : a["results"]["flow_history"]["rows"]) lowest = std::min(lowest, row[1].get<double>());
-    REQUIRE(lowest < 0.9);
-    // An arrest under pressure-driven flow reports how much fluid the closed valve still passes.
-    REQUIRE(a["results"]["closed_flow_share"].is_number());
-    CHECK(a["results"]["closed_flow_share"].get<double>() > 0.0);
-    CHECK(a["seeds"][0]["closed_flow_share"] == a["results"]["closed_flow_share"]);
-    CHECK(a["seeds"][0]["flux_share_last_window"] == a["results"]["flux_share_last_window"]);
-    // The report is seed 1's: seed 2's warnings (here its own sparse arrest window) join it,
-    // named by their seed; they used to reach stderr only.
-    REQUIRE_FALSE(a["seeds"][1]["warnings"].empty());
-    for (const auto& w : a["seeds"][1]["warnings"])
-        CHECK(a["warnings"].dump().find(json("seed " + std::to_string(a["seeds"][1]["seed"].get<long long>()) + ": " +
-                                             w.get<std::string>()).dump()) != std::string::npos);
-    const long total = steps[0] + steps[1] + steps[2];
-
-    // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
-    // no-field flow, with the field on, and in the release. With two seeds the first seed's
-    // checkpoint is overwritten by the second's, so that resume starts inside seed 2 and must
-    // still report seed 1's results and the jam probability over both; the single-seed cases
-    // compare everything but the statistics over seeds.
-    struct Case { std::string phase; long start, end; int seeds; };
-    for (const Case& c : {Case{"flow", 0, steps[0], 1}, Case{"field_on", steps[0], steps[0] + steps[1], 2},
-                          Case{"release", steps[0] + steps[1], total, 1}}) {
-        CAPTURE(c.phase);
-        const long every = (std::max(c.start, total / 2) + c.end) / 2 + 1;  // inside the phase, and 2N > total
-        if (every >= c.end) {
-            MESSAGE("stage lengths leave no single checkpoint in this phase: skipped");
-            continue;
+        // One checkpoint per run (every N steps with 2N beyond the run's end), placed in the
+        // no-field flow, with the field on, and in the release. With two seeds the first seed's
+        // checkpoint is overwritten by the second's, so that resume starts inside seed 2 and must
+        // still report seed 1's results and the jam probability over both; the single-seed cases
+        // compare everything but the statistics over seeds.
+        struct Case {
+            std::string phase;
+            long start, end;
+            int seeds;
+        };
+        for (const Case& c : {Case{"flow", 0, steps[0], 1}, Case{"field_on", steps[0], steps[0] + steps[1], 2},
+                              Case{"release", steps[0] + steps[1], total, 1}}) {
+            CAPTURE(c.phase);
+            const long every = (std::max(c.start, total / 2) + c.end) / 2 + 1;  // inside the phase, and 2N > total
+            if (every >= c.end) {
+                MESSAGE("stage lengths leave no single checkpoint in this phase: skipped");
+                continue;
+            }
+            const std::string name = "cut_" + c.phase;
+            const Result cut =
+                jam(dir, name, tiny_scene(dir.file("out_" + name), every), "--seeds " + std::to_string(c.seeds));
+            REQUIRE(cut.exit_code == 0);
+            const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+            REQUIRE(fs::exists(ck));
+            const Result resumed = mrjam(
+                dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+            CAPTURE(resumed.err);
+            REQUIRE(resumed.exit_code == 0);
+            const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+            CHECK(b["resumed_from"] == ck);
+            // It continued, not restarted: fewer steps run than the whole protocol.
+            if (c.seeds == 1)
+                CHECK(b["performance"]["steps_run"].get<long>() < a["performance"]["steps_run"].get<long>());
+            // Inputs, flux history, arrest and release, the flow scale, clusters, energies: all
+            // identical, bit for bit.
+            json ra = comparable(a)["results"], rb = comparable(b)["results"];
+            if (c.seeds == 1)
+                for (const char* key : {"jam_probability", "jam_probability_95ci", "arrest_probability_95ci",
+                                        "time_to_arrest_mean_s", "time_to_arrest_std_s"}) {
+                    ra.erase(key);
+                    rb.erase(key);
+                }
+            CHECK(rb == ra);
+            json inputs_a = a["inputs_jam"], inputs_b = b["inputs_jam"];
+            inputs_a.erase("output");  // the directory and the checkpoint interval differ on purpose
+            inputs_b.erase("output");
+            CHECK(inputs_b == inputs_a);
+            if (c.seeds == 2) CHECK(b["seeds"] == a["seeds"]);
+            // `mrjam run` would continue the engine without the protocol: it points to jam instead;
+            // and a resume cannot change the tier or the seeds it was started with.
+            if (c.phase == "flow") {
+                const Result reseeded = mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
+                CHECK(reseeded.exit_code == 2);
+                CHECK(reseeded.err.find("--seeds") != std::string::npos);
+                const Result run =
+                    mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
+                CHECK(run.exit_code == 2);
+                CHECK(run.err.find("mrjam jam --resume") != std::string::npos);
+            }
         }
-        const std::string name = "cut_" + c.phase;
-        const Result cut = jam(dir, name, tiny_scene(dir.file("out_" + name), every), "--seeds " + std::to_string(c.seeds));
+        // Not a jam checkpoint: refused naming --resume.
+        write_text(dir.file("not.mrjam"), "nothing");
+        const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
+        CHECK(bad.exit_code == 2);
+        CHECK(bad.err.find("--resume") != std::string::npos);
+    }
+
+    // A run checkpointed half-way through the field period and resumed must end as the
+    // uninterrupted one; `scene(out, checkpoint_every)` builds the variant. Returns the full run's report.
+    json resumed_mid_field_matches(const TempDir& dir, const std::function<json(const std::string&, long)>& scene) {
+        const Result full = jam(dir, "full", scene(dir.file("out_full"), 0), "");
+        CAPTURE(full.err);
+        REQUIRE(full.exit_code == 0);
+        const json a = json::parse(slurp(dir.file("full_report.json")));
+        const std::vector<long> steps = stage_steps(a);
+        REQUIRE(steps.size() == 3);
+        const long every = steps[0] + steps[1] / 2;
+        REQUIRE(2 * every > steps[0] + steps[1] + steps[2]);
+        const Result cut = jam(dir, "cut", scene(dir.file("out_cut"), every), "");
         REQUIRE(cut.exit_code == 0);
-        const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+        const std::string ck = dir.file("out_cut/checkpoint.mrjam");
         REQUIRE(fs::exists(ck));
-        const Result resumed = mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+        const Result resumed =
+            mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file("resumed.json")) + " --quiet");
         CAPTURE(resumed.err);
         REQUIRE(resumed.exit_code == 0);
-        const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
-        CHECK(b["resumed_from"] == ck);
-        // It continued, not restarted: fewer steps run than the whole protocol.
-        if (c.seeds == 1) CHECK(b["performance"]["steps_run"].get<long>() < a["performance"]["steps_run"].get<long>());
-        // Inputs, flux history, arrest and release, the flow scale, clusters, energies: all
-        // identical, bit for bit.
+        const json b = json::parse(slurp(dir.file("resumed.json")));
         json ra = comparable(a)["results"], rb = comparable(b)["results"];
-        if (c.seeds == 1)
-            for (const char* key : {"jam_probability", "jam_probability_95ci", "arrest_probability_95ci",
-                                    "time_to_arrest_mean_s", "time_to_arrest_std_s"}) {
-                ra.erase(key);
-                rb.erase(key);
-            }
         CHECK(rb == ra);
-        json inputs_a = a["inputs_jam"], inputs_b = b["inputs_jam"];
-        inputs_a.erase("output");  // the directory and the checkpoint interval differ on purpose
-        inputs_b.erase("output");
-        CHECK(inputs_b == inputs_a);
-        if (c.seeds == 2) CHECK(b["seeds"] == a["seeds"]);
-        // `mrjam run` would continue the engine without the protocol: it points to jam instead;
-        // and a resume cannot change the tier or the seeds it was started with.
-        if (c.phase == "flow") {
-            const Result reseeded = mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
-            CHECK(reseeded.exit_code == 2);
-            CHECK(reseeded.err.find("--seeds") != std::string::npos);
-            const Result run = mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
-            CHECK(run.exit_code == 2);
-            CHECK(run.err.find("mrjam jam --resume") != std::string::npos);
+        return a;
+    }
+
+    TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
+        // The tiny scene with the two-way coupled flow (its jet needs 0.35 mm past the throat centre):
+        // the slices' speeds and drag factors between observations live in the checkpoint's protocol
+        // state, so a run resumed with the field on ends as the uninterrupted one.
+        TempDir dir;
+        const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
+            json s = tiny_scene(out, every);
+            s["fluid"] = {{"flow", "coupled"}, {"supply_pressure", "10 kPa"}};
+            s["model"]["downstream_length"] = "0.35 mm";
+            return s;
+        });
+        CHECK(a["results"]["flow_model"].get<std::string>().rfind("coupled", 0) == 0);
+        CHECK(a["results"]["coupled_slices"]["rows"].size() > 5);
+    }
+
+    TEST_CASE(
+        "jam --resume: a finite batch resumes with its drained grains, counts, held magnetic forces and flow lookups") {
+        // The checkpoint holds fewer grains than the scene filled, and the batch's counts live in the
+        // protocol state: the resumed run drains on from there and ends as the uninterrupted one.
+        // The magnetic forces are evaluated and the carrier flow looked up every 3 steps: the
+        // held forces, lookups and their ages are state too, checkpointed with the grains and
+        // compacted with them as the batch drains.
+        TempDir dir;
+        const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
+            json s = tiny_scene(out, every);
+            s["model"]["downstream_length"] = "0.35 mm";
+            s["model"]["supply"] = "batch";
+            s["model"]["magnetic_update_interval"] = 3;
+            s["model"]["flow_lookup_interval"] = 3;
+            return s;
+        });
+        const json& b = a["results"]["batch"];
+        CHECK(b["grains_drained"].get<long>() > 0);
+        CHECK(a["results"]["magnetic"]["update_interval_steps"] == 3);
+        CHECK(a["results"]["magnetic"]["steps_with_held_forces"].get<long>() > 0);
+        CHECK(a["results"]["carrier_flow"]["lookup_interval_steps"] == 3);
+        CHECK(a["results"]["carrier_flow"]["steps_with_held_lookups"].get<long>() > 0);
+        // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
+        // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
+        REQUIRE(a["results"]["jammed"] == true);
+        const long start = b["upstream_of_throat_centre_at_start"],
+                   at_arrest = b["upstream_of_throat_centre_at_arrest"];
+        CHECK(at_arrest <= start);
+        CHECK(at_arrest >= b["upstream_of_throat_centre_at_end"].get<long>());
+        CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
+    }
+
+    // protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
+    // The tiny scene arrests; with a hold the release stage must run about hold / dt steps with the
+    // magnet still on before it goes off (without a hold: at most the one step that switches it), and
+    // the report must say whether the grains stayed put over the hold. The hold raises the supply
+    // from 10 to 40 kPa (protocol/hold_pressure) through the same circuit, so the flow scale, at most
+    // 1 at the scene's supply, may reach past it from the arrest on and only then.
+    TEST_CASE("jam: a hold keeps the field on after the arrest before the release test") {
+        TempDir dir;
+        const double hold = 0.01e-3;
+        json scene = tiny_scene(dir.file("out_hold"), 0);
+        scene["protocol"]["hold_time"] = "0.01 ms";
+        scene["protocol"]["hold_pressure"] = "40 kPa";
+        const Result with_hold = jam(dir, "hold", scene, "");
+        CAPTURE(with_hold.err);
+        REQUIRE(with_hold.exit_code == 0);
+        const json a = json::parse(slurp(dir.file("hold_report.json")));
+        const json& res = a["results"];
+        REQUIRE(res["jammed"] == true);
+        // Steps of the release stage with the magnet on (the magnetic state's counts are cumulative).
+        auto on_in_release = [](const json& stages) {
+            REQUIRE(stages.size() == 3);
+            auto off = [&](int k) { return stages[k]["state"]["magnetic"]["steps_with_magnet_off"].get<long>(); };
+            return stages[2]["steps"].get<long>() - (off(2) - off(1));
+        };
+        const double dt = res["timestep_s"].get<double>();
+        CHECK(std::abs(on_in_release(res["stages"]) - hold / dt) <= 2);
+        REQUIRE(res["hold"].is_object());
+        const double share = res["hold"]["flux_share"].get<double>();
+        // Held: below the scene's arrest_fraction (0.95) on average, and never given way.
+        CHECK(res["hold"]["held"].get<bool>() == (share < 0.95 && res["hold"]["gave_way_after_s"].is_null()));
+        CHECK(res["hold"]["closed_flow_share_at_end"].is_number());
+        CHECK(res["hold"]["pressure_Pa"].get<double>() == rel(40e3));
+        // When the bed gave way: never, if no grain passed over the hold, although the grains passed
+        // in the arrest's own last window (up to 95 % of the no-field flux here) must not count;
+        // otherwise within the hold, at the hold's supply (a step).
+        const json& gave_way = res["hold"]["gave_way_after_s"];
+        if (share == 0) {
+            CHECK(gave_way.is_null());
+            CHECK(res["hold"]["gave_way_at_pressure_Pa"].is_null());
+        } else if (gave_way.is_number()) {
+            CHECK(gave_way.get<double>() > 0);
+            CHECK(gave_way.get<double>() <= hold * (1 + 1e-9));
+            CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() == rel(40e3));
+        }
+        // The flux with the field on, window by window: whole arrest windows from field-on up to the
+        // arrest's call, none from the hold (which the history also covers).
+        const json& shares = res["flux_share_with_field"];
+        const double window = shares["window_s"].get<double>(), on = res["field_switched_on_s"].get<double>();
+        const double called = on + res["time_to_arrest_s"].get<double>() + window;
+        CHECK(window == rel(0.008e-3));
+        CHECK(shares["rows"].size() == static_cast<std::size_t>(std::floor((called - on) / window * (1 + 1e-9))));
+        for (const auto& row : shares["rows"]) CHECK(row[0].get<double>() <= called * (1 + 1e-12));
+        if (!shares["rows"].empty())
+            CHECK(res["flux_share_last_window"].get<double>() == shares["rows"].back()[1].get<double>());
+        // The flow scale: never above 1 before the arrest, above it after (the tiny scene's "arrest"
+        // at 95 % of the no-field flux leaves the grains flowing, so 4x the pressure drives more flow).
+        const double arrest_at = res["field_switched_on_s"].get<double>() + res["time_to_arrest_s"].get<double>();
+        double before = 0, after = 0;
+        for (const auto& row : res["flow_history"]["rows"]) {
+            double& peak = row[0].get<double>() < arrest_at ? before : after;
+            peak = std::max(peak, row[1].get<double>());
+        }
+        CHECK(before <= 1.0);
+        CHECK(after > 1.5);
+        // The outcome and the jam probability follow the hold: a broken hold is no jam.
+        const bool held = res["hold"]["held"].get<bool>();
+        CHECK(res["stops_flow"] == held);
+        CHECK((res["outcome"] == "fail-no-hold") == !held);
+        CHECK(res["jam_probability"].get<double>() == (held ? 1.0 : 0.0));
+        CHECK(res["arrest_probability"].get<double>() == 1.0);
+        // One seed says little: Wilson's 95 % interval for 1 of 1 is [1 / (1 + z^2), 1], for 0 of 1
+        // [0, z^2 / (1 + z^2)].
+        const double z2 = 1.959963984540054 * 1.959963984540054;
+        const json one_of_one = json::array({1 / (1 + z2), 1.0}), none_of_one = json::array({0.0, z2 / (1 + z2)});
+        for (const auto& [key, expected] : {std::pair{"arrest_probability_95ci", one_of_one},
+                                            std::pair{"jam_probability_95ci", held ? one_of_one : none_of_one}}) {
+            CAPTURE(key);
+            REQUIRE(res[key].size() == 2);
+            for (int b = 0; b < 2; ++b)
+                CHECK(res[key][b].get<double>() == doctest::Approx(expected[b].get<double>()).epsilon(1e-12));
+        }
+        REQUIRE(a["seeds"].size() == 1);
+        CHECK(a["seeds"][0]["stops_flow"] == held);
+        CHECK(a["seeds"][0]["hold"] == res["hold"]);
+        // The same scene without a hold: the field goes off at the arrest, and no "hold" is reported.
+        const Result plain = jam(dir, "plain", tiny_scene(dir.file("out_plain"), 0), "");
+        REQUIRE(plain.exit_code == 0);
+        const json b = json::parse(slurp(dir.file("plain_report.json")));
+        CHECK(on_in_release(b["results"]["stages"]) <= 1);
+        CHECK_FALSE(b["results"].contains("hold"));
+    }
+
+    // The tiny scene's arrest (the field's slowing of the flux) pushed at 20 times the supply that
+    // it formed under: 200 kPa drives the open flow 20 times faster, and a bed that at best halves it
+    // passes grains faster than the no-field flow did, so it gives way within 0.03 ms; the report must
+    // say when, and at what supply, and count it as no jam. With the same rise spread over the hold
+    // (protocol/hold_pressure_ramp), the supply at the give-way is the ramp's value at that time.
+    TEST_CASE(
+        "jam: a bed pushed far past its closing pressure gives way, and the report says when and at what supply") {
+        TempDir dir;
+        const double hold = 0.03e-3, ramp = 0.03e-3, supply = 10e3, raised = 200e3;
+        for (const bool ramped : {false, true}) {
+            CAPTURE(ramped);
+            json scene = tiny_scene(dir.file(ramped ? "out_ramp" : "out_step"), 0);
+            scene["protocol"]["hold_time"] = "0.03 ms";
+            scene["protocol"]["hold_pressure"] = "200 kPa";
+            if (ramped) scene["protocol"]["hold_pressure_ramp"] = "0.03 ms";
+            const std::string name = ramped ? "ramp" : "step";
+            const Result r = jam(dir, name, scene, "");
+            CAPTURE(r.err);
+            REQUIRE(r.exit_code == 0);
+            const json res = json::parse(slurp(dir.file(name + "_report.json")))["results"];
+            REQUIRE(res["jammed"] == true);
+            REQUIRE(res["hold"]["gave_way_after_s"].is_number());
+            const double after = res["hold"]["gave_way_after_s"].get<double>();
+            CHECK(after > 0);
+            CHECK(after <= hold * (1 + 1e-9));
+            const double expected = ramped ? supply + std::min(1.0, after / ramp) * (raised - supply) : raised;
+            CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() == rel(expected));
+            if (ramped) CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() < raised);
+            CHECK(res["hold"]["held"] == false);
+            CHECK(res["outcome"] == "fail-no-hold");
+            CHECK(res["jam_probability"].get<double>() == 0.0);
         }
     }
-    // Not a jam checkpoint: refused naming --resume.
-    write_text(dir.file("not.mrjam"), "nothing");
-    const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
-    CHECK(bad.exit_code == 2);
-    CHECK(bad.err.find("--resume") != std::string::npos);
-}
 
-// A run checkpointed half-way through the field period and resumed must end as the
-// uninterrupted one; `scene(out, checkpoint_every)` builds the variant. Returns the full run's report.
-json resumed_mid_field_matches(const TempDir& dir, const std::function<json(const std::string&, long)>& scene) {
-    const Result full = jam(dir, "full", scene(dir.file("out_full"), 0), "");
-    CAPTURE(full.err);
-    REQUIRE(full.exit_code == 0);
-    const json a = json::parse(slurp(dir.file("full_report.json")));
-    const std::vector<long> steps = stage_steps(a);
-    REQUIRE(steps.size() == 3);
-    const long every = steps[0] + steps[1] / 2;
-    REQUIRE(2 * every > steps[0] + steps[1] + steps[2]);
-    const Result cut = jam(dir, "cut", scene(dir.file("out_cut"), every), "");
-    REQUIRE(cut.exit_code == 0);
-    const std::string ck = dir.file("out_cut/checkpoint.mrjam");
-    REQUIRE(fs::exists(ck));
-    const Result resumed = mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file("resumed.json")) + " --quiet");
-    CAPTURE(resumed.err);
-    REQUIRE(resumed.exit_code == 0);
-    const json b = json::parse(slurp(dir.file("resumed.json")));
-    json ra = comparable(a)["results"], rb = comparable(b)["results"];
-    CHECK(rb == ra);
-    return a;
-}
-
-TEST_CASE("jam --resume: the coupled flow's field survives a checkpoint") {
-    // The tiny scene with the two-way coupled flow (its jet needs 0.35 mm past the throat centre):
-    // the slices' speeds and drag factors between observations live in the checkpoint's protocol
-    // state, so a run resumed with the field on ends as the uninterrupted one.
-    TempDir dir;
-    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
-        json s = tiny_scene(out, every);
-        s["fluid"] = {{"flow", "coupled"}, {"supply_pressure", "10 kPa"}};
-        s["model"]["downstream_length"] = "0.35 mm";
-        return s;
-    });
-    CHECK(a["results"]["flow_model"].get<std::string>().rfind("coupled", 0) == 0);
-    CHECK(a["results"]["coupled_slices"]["rows"].size() > 5);
-}
-
-TEST_CASE("jam --resume: a finite batch resumes with its drained grains, counts, held magnetic forces and flow lookups") {
-    // The checkpoint holds fewer grains than the scene filled, and the batch's counts live in the
-    // protocol state: the resumed run drains on from there and ends as the uninterrupted one.
-    // The magnetic forces are evaluated and the carrier flow looked up every 3 steps: the
-    // held forces, lookups and their ages are state too, checkpointed with the grains and
-    // compacted with them as the batch drains.
-    TempDir dir;
-    const json a = resumed_mid_field_matches(dir, [](const std::string& out, long every) {
-        json s = tiny_scene(out, every);
-        s["model"]["downstream_length"] = "0.35 mm";
-        s["model"]["supply"] = "batch";
-        s["model"]["magnetic_update_interval"] = 3;
-        s["model"]["flow_lookup_interval"] = 3;
-        return s;
-    });
-    const json& b = a["results"]["batch"];
-    CHECK(b["grains_drained"].get<long>() > 0);
-    CHECK(a["results"]["magnetic"]["update_interval_steps"] == 3);
-    CHECK(a["results"]["magnetic"]["steps_with_held_forces"].get<long>() > 0);
-    CHECK(a["results"]["carrier_flow"]["lookup_interval_steps"] == 3);
-    CHECK(a["results"]["carrier_flow"]["steps_with_held_lookups"].get<long>() > 0);
-    // The tiny scene arrests (arrest_fraction 0.95): the count at the arrest lies between the
-    // first and the last, and a batch mostly gone upstream by then is flagged as a feed run out.
-    REQUIRE(a["results"]["jammed"] == true);
-    const long start = b["upstream_of_throat_centre_at_start"], at_arrest = b["upstream_of_throat_centre_at_arrest"];
-    CHECK(at_arrest <= start);
-    CHECK(at_arrest >= b["upstream_of_throat_centre_at_end"].get<long>());
-    CHECK((a["warnings"].dump().find("feed ran out") != std::string::npos) == (2 * at_arrest < start));
-}
-
-// protocol/hold_time keeps the field on after the arrest, then the release test runs as before.
-// The tiny scene arrests; with a hold the release stage must run about hold / dt steps with the
-// magnet still on before it goes off (without a hold: at most the one step that switches it), and
-// the report must say whether the grains stayed put over the hold. The hold raises the supply
-// from 10 to 40 kPa (protocol/hold_pressure) through the same circuit, so the flow scale, at most
-// 1 at the scene's supply, may reach past it from the arrest on and only then.
-TEST_CASE("jam: a hold keeps the field on after the arrest before the release test") {
-    TempDir dir;
-    const double hold = 0.01e-3;
-    json scene = tiny_scene(dir.file("out_hold"), 0);
-    scene["protocol"]["hold_time"] = "0.01 ms";
-    scene["protocol"]["hold_pressure"] = "40 kPa";
-    const Result with_hold = jam(dir, "hold", scene, "");
-    CAPTURE(with_hold.err);
-    REQUIRE(with_hold.exit_code == 0);
-    const json a = json::parse(slurp(dir.file("hold_report.json")));
-    const json& res = a["results"];
-    REQUIRE(res["jammed"] == true);
-    // Steps of the release stage with the magnet on (the magnetic state's counts are cumulative).
-    auto on_in_release = [](const json& stages) {
-        REQUIRE(stages.size() == 3);
-        auto off = [&](int k) { return stages[k]["state"]["magnetic"]["steps_with_magnet_off"].get<long>(); };
-        return stages[2]["steps"].get<long>() - (off(2) - off(1));
-    };
-    const double dt = res["timestep_s"].get<double>();
-    CHECK(std::abs(on_in_release(res["stages"]) - hold / dt) <= 2);
-    REQUIRE(res["hold"].is_object());
-    const double share = res["hold"]["flux_share"].get<double>();
-    // Held: below the scene's arrest_fraction (0.95) on average, and never given way.
-    CHECK(res["hold"]["held"].get<bool>() == (share < 0.95 && res["hold"]["gave_way_after_s"].is_null()));
-    CHECK(res["hold"]["closed_flow_share_at_end"].is_number());
-    CHECK(res["hold"]["pressure_Pa"].get<double>() == rel(40e3));
-    // When the bed gave way: never, if no grain passed over the hold, although the grains passed
-    // in the arrest's own last window (up to 95 % of the no-field flux here) must not count;
-    // otherwise within the hold, at the hold's supply (a step).
-    const json& gave_way = res["hold"]["gave_way_after_s"];
-    if (share == 0) {
-        CHECK(gave_way.is_null());
-        CHECK(res["hold"]["gave_way_at_pressure_Pa"].is_null());
-    } else if (gave_way.is_number()) {
-        CHECK(gave_way.get<double>() > 0);
-        CHECK(gave_way.get<double>() <= hold * (1 + 1e-9));
-        CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() == rel(40e3));
+    // A run that blows up says why on the terminal (the cause and its fixes), not only in the
+    // report, with exit code 3: grains of 1 MPa cannot hold the flow's impacts.
+    TEST_CASE("jam: a blow-up stops the run with its cause on stderr and exit code 3") {
+        TempDir dir;
+        json scene = tiny_scene(dir.file("out_soft"), 0);
+        scene["material"] = {{"youngs_modulus", "1 MPa"}};
+        scene["protocol"]["observe_every_steps"] = 1;  // the soft grains' long step still observes a window 4 times
+        const Result r = jam(dir, "soft", scene, "");
+        CHECK(r.exit_code == 3);
+        CHECK(r.err.find("blow-up") != std::string::npos);
+        CHECK(r.err.find("youngs_modulus") != std::string::npos);
+        const json report = json::parse(slurp(dir.file("soft_report.json")));
+        CHECK(report["status"] == "failed");
+        CHECK(report["error"].get<std::string>().find("blow-up") != std::string::npos);
     }
-    // The flux with the field on, window by window: whole arrest windows from field-on up to the
-    // arrest's call, none from the hold (which the history also covers).
-    const json& shares = res["flux_share_with_field"];
-    const double window = shares["window_s"].get<double>(), on = res["field_switched_on_s"].get<double>();
-    const double called = on + res["time_to_arrest_s"].get<double>() + window;
-    CHECK(window == rel(0.008e-3));
-    CHECK(shares["rows"].size() == static_cast<std::size_t>(std::floor((called - on) / window * (1 + 1e-9))));
-    for (const auto& row : shares["rows"]) CHECK(row[0].get<double>() <= called * (1 + 1e-12));
-    if (!shares["rows"].empty())
-        CHECK(res["flux_share_last_window"].get<double>() == shares["rows"].back()[1].get<double>());
-    // The flow scale: never above 1 before the arrest, above it after (the tiny scene's "arrest"
-    // at 95 % of the no-field flux leaves the grains flowing, so 4x the pressure drives more flow).
-    const double arrest_at = res["field_switched_on_s"].get<double>() + res["time_to_arrest_s"].get<double>();
-    double before = 0, after = 0;
-    for (const auto& row : res["flow_history"]["rows"]) {
-        double& peak = row[0].get<double>() < arrest_at ? before : after;
-        peak = std::max(peak, row[1].get<double>());
-    }
-    CHECK(before <= 1.0);
-    CHECK(after > 1.5);
-    // The outcome and the jam probability follow the hold: a broken hold is no jam.
-    const bool held = res["hold"]["held"].get<bool>();
-    CHECK(res["stops_flow"] == held);
-    CHECK((res["outcome"] == "fail-no-hold") == !held);
-    CHECK(res["jam_probability"].get<double>() == (held ? 1.0 : 0.0));
-    CHECK(res["arrest_probability"].get<double>() == 1.0);
-    // One seed says little: Wilson's 95 % interval for 1 of 1 is [1 / (1 + z^2), 1], for 0 of 1
-    // [0, z^2 / (1 + z^2)].
-    const double z2 = 1.959963984540054 * 1.959963984540054;
-    const json one_of_one = json::array({1 / (1 + z2), 1.0}), none_of_one = json::array({0.0, z2 / (1 + z2)});
-    for (const auto& [key, expected] : {std::pair{"arrest_probability_95ci", one_of_one},
-                                        std::pair{"jam_probability_95ci", held ? one_of_one : none_of_one}}) {
-        CAPTURE(key);
-        REQUIRE(res[key].size() == 2);
-        for (int b = 0; b < 2; ++b) CHECK(res[key][b].get<double>() == doctest::Approx(expected[b].get<double>()).epsilon(1e-12));
-    }
-    REQUIRE(a["seeds"].size() == 1);
-    CHECK(a["seeds"][0]["stops_flow"] == held);
-    CHECK(a["seeds"][0]["hold"] == res["hold"]);
-    // The same scene without a hold: the field goes off at the arrest, and no "hold" is reported.
-    const Result plain = jam(dir, "plain", tiny_scene(dir.file("out_plain"), 0), "");
-    REQUIRE(plain.exit_code == 0);
-    const json b = json::parse(slurp(dir.file("plain_report.json")));
-    CHECK(on_in_release(b["results"]["stages"]) <= 1);
-    CHECK_FALSE(b["results"].contains("hold"));
-}
 
-// The tiny scene's arrest (the field's slowing of the flux) pushed at 20 times the supply that
-// it formed under: 200 kPa drives the open flow 20 times faster, and a bed that at best halves it
-// passes grains faster than the no-field flow did, so it gives way within 0.03 ms; the report must
-// say when, and at what supply, and count it as no jam. With the same rise spread over the hold
-// (protocol/hold_pressure_ramp), the supply at the give-way is the ramp's value at that time.
-TEST_CASE("jam: a bed pushed far past its closing pressure gives way, and the report says when and at what supply") {
-    TempDir dir;
-    const double hold = 0.03e-3, ramp = 0.03e-3, supply = 10e3, raised = 200e3;
-    for (const bool ramped : {false, true}) {
-        CAPTURE(ramped);
-        json scene = tiny_scene(dir.file(ramped ? "out_ramp" : "out_step"), 0);
-        scene["protocol"]["hold_time"] = "0.03 ms";
-        scene["protocol"]["hold_pressure"] = "200 kPa";
-        if (ramped) scene["protocol"]["hold_pressure_ramp"] = "0.03 ms";
-        const std::string name = ramped ? "ramp" : "step";
-        const Result r = jam(dir, name, scene, "");
+    // A damaged checkpoint is refused as bad input to --resume (exit 2), not read past an array's
+    // end: here the velocity array (the second per-grain array, after the positions) is cut 100
+    // grains short, its length field made to match.
+    TEST_CASE("jam --resume: a checkpoint whose per-grain arrays disagree is refused") {
+        TempDir dir;
+        REQUIRE(jam(dir, "run", tiny_scene(dir.file("out"), 200), "").exit_code == 0);
+        std::string bytes = slurp(dir.file("out/checkpoint.mrjam"));
+        auto u64 = [&](std::size_t at) {
+            std::uint64_t v;
+            std::memcpy(&v, bytes.data() + at, sizeof v);
+            return v;
+        };
+        // The positions: a length n followed by n Vec3 (24 bytes) and the velocities' length n.
+        std::size_t velocities = 0;
+        for (std::size_t at = 0; velocities == 0 && at + 8 <= bytes.size(); ++at) {
+            const std::uint64_t n = u64(at);
+            if (n > 100 && n < 1000000 && at + 16 + 24 * n <= bytes.size() && u64(at + 8 + 24 * n) == n)
+                velocities = at + 8 + 24 * n;
+        }
+        REQUIRE(velocities > 0);
+        const std::uint64_t shorter = u64(velocities) - 100;
+        std::memcpy(bytes.data() + velocities, &shorter, sizeof shorter);
+        bytes.erase(velocities + 8, 24 * 100);
+        mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the arrays' own check
+        write_text(dir.file("damaged.mrjam"), bytes);
+        const Result r = mrjam(dir, "jam --resume " + quote(dir.file("damaged.mrjam")) + " --report " +
+                                        quote(dir.file("damaged_report.json")) + " --quiet");
+        CAPTURE(r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("--resume") != std::string::npos);
+        CHECK(r.err.find("per-grain arrays of different lengths") != std::string::npos);
+    }
+
+    TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
+        TempDir dir;
+        const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");
+        REQUIRE(full.exit_code == 0);
+        const json a = json::parse(slurp(dir.file("full_report.json")));
+        write_text(dir.file("cut.json"), tiny_scene(dir.file("out_cut"), 0).dump());
+        const std::string delay = std::to_string(std::max(0.05, 0.5 * a["wall_time_s"].get<double>()));
+        const Result cut = mrjam(dir,
+                                 "jam " + quote(dir.file("cut.json")) + " --report " +
+                                     quote(dir.file("cut_report.json")) + " --fidelity quick --quiet",
+                                 " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+        if (cut.exit_code == 0 || !fs::exists(dir.file("cut_report.json"))) {
+            MESSAGE("the signal missed the run (finished first, or came before it started): nothing to resume");
+            return;
+        }
+        REQUIRE(cut.exit_code == 130);
+        const json c = json::parse(slurp(dir.file("cut_report.json")));
+        CHECK(c["results"]["flux_history"]["partial"] == true);
+        // No outcome is claimed before the protocol has ended.
+        CHECK(c["results"]["outcome"].get<std::string>().rfind("incomplete", 0) == 0);
+        CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
+        const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
+                                              quote(dir.file("resumed.json")) + " --quiet");
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json b = json::parse(slurp(dir.file("resumed.json")));
+        CHECK(b["results"]["flux_history"]["partial"] == false);
+        CHECK(comparable(b)["results"] == comparable(a)["results"]);
+        // Once complete, the checkpoint is gone: resumed again it would run the end again.
+        CHECK_FALSE(fs::exists(c["checkpoint"].get<std::string>()));
+    }
+
+    TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {
+        TempDir dir;
+        const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0),
+                             "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every 2e-5");  // plain seconds
         CAPTURE(r.err);
         REQUIRE(r.exit_code == 0);
-        const json res = json::parse(slurp(dir.file(name + "_report.json")))["results"];
-        REQUIRE(res["jammed"] == true);
-        REQUIRE(res["hold"]["gave_way_after_s"].is_number());
-        const double after = res["hold"]["gave_way_after_s"].get<double>();
-        CHECK(after > 0);
-        CHECK(after <= hold * (1 + 1e-9));
-        const double expected = ramped ? supply + std::min(1.0, after / ramp) * (raised - supply) : raised;
-        CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() == rel(expected));
-        if (ramped) CHECK(res["hold"]["gave_way_at_pressure_Pa"].get<double>() < raised);
-        CHECK(res["hold"]["held"] == false);
-        CHECK(res["outcome"] == "fail-no-hold");
-        CHECK(res["jam_probability"].get<double>() == 0.0);
+        const json report = json::parse(slurp(dir.file("snap_report.json")));
+        const double t_end = report["results"]["simulated_time_s"].get<double>();
+        int series = 0;
+        for (const auto& entry : fs::directory_iterator(dir.file("vtk")))
+            if (entry.path().filename().string().find("_step") != std::string::npos) ++series;
+        // One at the first observation and one per 0.02 ms after it; the last multiple of 0.02 ms
+        // may fall after the last observation (every 20 steps), so it may be missing.
+        const int due = static_cast<int>(std::floor(t_end / 0.02e-3)) + 1;
+        CHECK(series <= due);
+        CHECK(series >= due - 1);
+        CHECK(series >= 3);
+        CHECK(report["outputs"]["snapshots"].size() == static_cast<std::size_t>(series) + 2);
+        REQUIRE(report["results"]["jammed"] == true);
+        for (const char* tag : {"arrest", "end"}) {
+            CAPTURE(tag);
+            const std::string file = slurp(dir.file(std::string("vtk/seed1_") + tag + ".vtk"));
+            const auto cluster = legacy_int_array(file, "cluster");
+            const auto size = legacy_int_array(file, "cluster_size");
+            REQUIRE(cluster.size() == size.size());
+            REQUIRE(!cluster.empty());
+            // Every grain's cluster_size is the number of grains with its label, and label 0 is the
+            // largest cluster.
+            std::map<std::int32_t, std::int32_t> count;
+            for (auto c : cluster) ++count[c];
+            std::int32_t largest = 0;
+            for (auto [label, n] : count) largest = std::max(largest, n);
+            CHECK(count[0] == largest);
+            for (std::size_t i = 0; i < cluster.size(); ++i) REQUIRE(size[i] == count[cluster[i]]);
+        }
+        // The report names the clusters as they were at the arrest: the arrest snapshot's largest.
+        CHECK(report["results"]["clusters_seen_at"] == "arrest");
+        const auto arrest_cluster = legacy_int_array(slurp(dir.file("vtk/seed1_arrest.vtk")), "cluster_size");
+        CHECK(*std::max_element(arrest_cluster.begin(), arrest_cluster.end()) ==
+              report["results"]["largest_cluster"].get<int>());
+        // Bad interval: refused, naming the option.
+        const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0),
+                               "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
+        CHECK(bad.exit_code == 2);
+        CHECK(bad.err.find("--snapshot-every") != std::string::npos);
+        // An interval below the time's resolution hung the run (signals too): refused, as are more
+        // than 2000 frames, a frame interval past the run, and a snapshot directory that is a file.
+        for (const std::string every : {"1e-300", "1e-12", "1"}) {
+            CAPTURE(every);
+            const Result tiny = jam(dir, "tiny", tiny_scene(dir.file("out_tiny"), 0),
+                                    "--snapshots " + quote(dir.file("v3")) + " --snapshot-every " + every);
+            CHECK(tiny.exit_code == 2);
+            CHECK(tiny.err.find("--snapshot-every") != std::string::npos);
+        }
+        write_text(dir.file("a_file"), "x");
+        const Result onto_file =
+            jam(dir, "onto_file", tiny_scene(dir.file("out_file"), 0), "--snapshots " + quote(dir.file("a_file")));
+        CHECK(onto_file.exit_code == 2);
+        CHECK(onto_file.err.find("--snapshots") != std::string::npos);
+        // An interval without snapshots to space would be ignored: refused too.
+        const Result alone = jam(dir, "alone", tiny_scene(dir.file("out_alone"), 0), "--snapshot-every 2e-5");
+        CHECK(alone.exit_code == 2);
+        CHECK(alone.err.find("--snapshot-every") != std::string::npos);
     }
-}
-
-// A run that blows up says why on the terminal (the cause and its fixes), not only in the
-// report, with exit code 3: grains of 1 MPa cannot hold the flow's impacts.
-TEST_CASE("jam: a blow-up stops the run with its cause on stderr and exit code 3") {
-    TempDir dir;
-    json scene = tiny_scene(dir.file("out_soft"), 0);
-    scene["material"] = {{"youngs_modulus", "1 MPa"}};
-    scene["protocol"]["observe_every_steps"] = 1;  // the soft grains' long step still observes a window 4 times
-    const Result r = jam(dir, "soft", scene, "");
-    CHECK(r.exit_code == 3);
-    CHECK(r.err.find("blow-up") != std::string::npos);
-    CHECK(r.err.find("youngs_modulus") != std::string::npos);
-    const json report = json::parse(slurp(dir.file("soft_report.json")));
-    CHECK(report["status"] == "failed");
-    CHECK(report["error"].get<std::string>().find("blow-up") != std::string::npos);
-}
-
-// A damaged checkpoint is refused as bad input to --resume (exit 2), not read past an array's
-// end: here the velocity array (the second per-grain array, after the positions) is cut 100
-// grains short, its length field made to match.
-TEST_CASE("jam --resume: a checkpoint whose per-grain arrays disagree is refused") {
-    TempDir dir;
-    REQUIRE(jam(dir, "run", tiny_scene(dir.file("out"), 200), "").exit_code == 0);
-    std::string bytes = slurp(dir.file("out/checkpoint.mrjam"));
-    auto u64 = [&](std::size_t at) {
-        std::uint64_t v;
-        std::memcpy(&v, bytes.data() + at, sizeof v);
-        return v;
-    };
-    // The positions: a length n followed by n Vec3 (24 bytes) and the velocities' length n.
-    std::size_t velocities = 0;
-    for (std::size_t at = 0; velocities == 0 && at + 8 <= bytes.size(); ++at) {
-        const std::uint64_t n = u64(at);
-        if (n > 100 && n < 1000000 && at + 16 + 24 * n <= bytes.size() && u64(at + 8 + 24 * n) == n)
-            velocities = at + 8 + 24 * n;
-    }
-    REQUIRE(velocities > 0);
-    const std::uint64_t shorter = u64(velocities) - 100;
-    std::memcpy(bytes.data() + velocities, &shorter, sizeof shorter);
-    bytes.erase(velocities + 8, 24 * 100);
-    mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the arrays' own check
-    write_text(dir.file("damaged.mrjam"), bytes);
-    const Result r = mrjam(dir, "jam --resume " + quote(dir.file("damaged.mrjam")) + " --report " +
-                                    quote(dir.file("damaged_report.json")) + " --quiet");
-    CAPTURE(r.err);
-    CHECK(r.exit_code == 2);
-    CHECK(r.err.find("--resume") != std::string::npos);
-    CHECK(r.err.find("per-grain arrays of different lengths") != std::string::npos);
-}
-
-TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
-    TempDir dir;
-    const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "");
-    REQUIRE(full.exit_code == 0);
-    const json a = json::parse(slurp(dir.file("full_report.json")));
-    write_text(dir.file("cut.json"), tiny_scene(dir.file("out_cut"), 0).dump());
-    const std::string delay = std::to_string(std::max(0.05, 0.5 * a["wall_time_s"].get<double>()));
-    const Result cut = mrjam(dir, "jam " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
-                                      " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
-    if (cut.exit_code == 0 || !fs::exists(dir.file("cut_report.json"))) {
-        MESSAGE("the signal missed the run (finished first, or came before it started): nothing to resume");
-        return;
-    }
-    REQUIRE(cut.exit_code == 130);
-    const json c = json::parse(slurp(dir.file("cut_report.json")));
-    CHECK(c["results"]["flux_history"]["partial"] == true);
-    // No outcome is claimed before the protocol has ended.
-    CHECK(c["results"]["outcome"].get<std::string>().rfind("incomplete", 0) == 0);
-    CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
-    const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
-                                          quote(dir.file("resumed.json")) + " --quiet");
-    CAPTURE(resumed.err);
-    REQUIRE(resumed.exit_code == 0);
-    const json b = json::parse(slurp(dir.file("resumed.json")));
-    CHECK(b["results"]["flux_history"]["partial"] == false);
-    CHECK(comparable(b)["results"] == comparable(a)["results"]);
-    // Once complete, the checkpoint is gone: resumed again it would run the end again.
-    CHECK_FALSE(fs::exists(c["checkpoint"].get<std::string>()));
-}
-
-TEST_CASE("jam --snapshots: VTK files in time, at arrest and at the end, with the contact clusters") {
-    TempDir dir;
-    const Result r = jam(dir, "snap", tiny_scene(dir.file("out"), 0), "--snapshots " + quote(dir.file("vtk")) + " --snapshot-every 2e-5");  // plain seconds
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json report = json::parse(slurp(dir.file("snap_report.json")));
-    const double t_end = report["results"]["simulated_time_s"].get<double>();
-    int series = 0;
-    for (const auto& entry : fs::directory_iterator(dir.file("vtk")))
-        if (entry.path().filename().string().find("_step") != std::string::npos) ++series;
-    // One at the first observation and one per 0.02 ms after it; the last multiple of 0.02 ms
-    // may fall after the last observation (every 20 steps), so it may be missing.
-    const int due = static_cast<int>(std::floor(t_end / 0.02e-3)) + 1;
-    CHECK(series <= due);
-    CHECK(series >= due - 1);
-    CHECK(series >= 3);
-    CHECK(report["outputs"]["snapshots"].size() == static_cast<std::size_t>(series) + 2);
-    REQUIRE(report["results"]["jammed"] == true);
-    for (const char* tag : {"arrest", "end"}) {
-        CAPTURE(tag);
-        const std::string file = slurp(dir.file(std::string("vtk/seed1_") + tag + ".vtk"));
-        const auto cluster = legacy_int_array(file, "cluster");
-        const auto size = legacy_int_array(file, "cluster_size");
-        REQUIRE(cluster.size() == size.size());
-        REQUIRE(!cluster.empty());
-        // Every grain's cluster_size is the number of grains with its label, and label 0 is the
-        // largest cluster.
-        std::map<std::int32_t, std::int32_t> count;
-        for (auto c : cluster) ++count[c];
-        std::int32_t largest = 0;
-        for (auto [label, n] : count) largest = std::max(largest, n);
-        CHECK(count[0] == largest);
-        for (std::size_t i = 0; i < cluster.size(); ++i) REQUIRE(size[i] == count[cluster[i]]);
-    }
-    // The report names the clusters as they were at the arrest: the arrest snapshot's largest.
-    CHECK(report["results"]["clusters_seen_at"] == "arrest");
-    const auto arrest_cluster = legacy_int_array(slurp(dir.file("vtk/seed1_arrest.vtk")), "cluster_size");
-    CHECK(*std::max_element(arrest_cluster.begin(), arrest_cluster.end()) == report["results"]["largest_cluster"].get<int>());
-    // Bad interval: refused, naming the option.
-    const Result bad = jam(dir, "bad", tiny_scene(dir.file("out_bad"), 0), "--snapshots " + quote(dir.file("v2")) + " --snapshot-every '3 kg'");
-    CHECK(bad.exit_code == 2);
-    CHECK(bad.err.find("--snapshot-every") != std::string::npos);
-    // An interval below the time's resolution hung the run (signals too): refused, as are more
-    // than 2000 frames, a frame interval past the run, and a snapshot directory that is a file.
-    for (const std::string every : {"1e-300", "1e-12", "1"}) {
-        CAPTURE(every);
-        const Result tiny = jam(dir, "tiny", tiny_scene(dir.file("out_tiny"), 0), "--snapshots " + quote(dir.file("v3")) + " --snapshot-every " + every);
-        CHECK(tiny.exit_code == 2);
-        CHECK(tiny.err.find("--snapshot-every") != std::string::npos);
-    }
-    write_text(dir.file("a_file"), "x");
-    const Result onto_file = jam(dir, "onto_file", tiny_scene(dir.file("out_file"), 0), "--snapshots " + quote(dir.file("a_file")));
-    CHECK(onto_file.exit_code == 2);
-    CHECK(onto_file.err.find("--snapshots") != std::string::npos);
-    // An interval without snapshots to space would be ignored: refused too.
-    const Result alone = jam(dir, "alone", tiny_scene(dir.file("out_alone"), 0), "--snapshot-every 2e-5");
-    CHECK(alone.exit_code == 2);
-    CHECK(alone.err.find("--snapshot-every") != std::string::npos);
-}
 
 }  // TEST_SUITE

@@ -86,8 +86,8 @@ std::size_t carried_tags(const NeighborList& list, const std::map<PairKey, doubl
 }
 
 struct Mismatch {
-    std::size_t missing = 0;   // closer than the cutoff (by a margin) but not listed
-    std::size_t extra = 0;     // listed but farther than the cutoff (by a margin)
+    std::size_t missing = 0;  // closer than the cutoff (by a margin) but not listed
+    std::size_t extra = 0;    // listed but farther than the cutoff (by a margin)
     std::size_t wrong_image = 0;
     std::size_t required = 0;  // pairs the brute force requires
 };
@@ -128,8 +128,7 @@ Mismatch compare_with_brute_force(const NeighborList& list, const Particles& p, 
 // The size distribution of the tests: classes from 1 to 30 um in diameter, number-weighted so
 // most grains are fine and a handful (about 6 in these boxes) are 30 times larger.
 SizeDistribution ratio_30_table() {
-    return SizeDistribution::table({1e-6, 2e-6, 4e-6, 8e-6, 15e-6, 30e-6},
-                                   {0.7, 0.2, 0.07, 0.02, 0.007, 0.003},
+    return SizeDistribution::table({1e-6, 2e-6, 4e-6, 8e-6, 15e-6, 30e-6}, {0.7, 0.2, 0.07, 0.02, 0.007, 0.003},
                                    SizeDistribution::FrequencyBasis::number);
 }
 
@@ -212,7 +211,10 @@ void check_list_survives_small_moves(Packed& s, std::uint64_t seed, const std::s
                     if (j == i) continue;
                     const Vec3 sep = s.domain.separation(at_build[i], at_build[j]);
                     const double gap = norm(sep) - s.particles.radius[i] - s.particles.radius[j];
-                    if (gap < best_gap) { best_gap = gap; dir = sep; }
+                    if (gap < best_gap) {
+                        best_gap = gap;
+                        dir = sep;
+                    }
                 }
                 length = 0.4999 * s.skin;
             }
@@ -254,175 +256,177 @@ void check_threads_identical(Packed& s, const std::string& label) {
 }  // namespace
 
 TEST_SUITE("unit") {
-
-TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on all axes") {
-    Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 11);
-    check_list_matches_brute_force(s, "table, periodic xyz");
-    Packed t = pack(ratio_30_lognormal(), {true, true, true}, 80e-6, 0.4, 12);
-    check_list_matches_brute_force(t, "lognormal, periodic xyz", 10);
-}
-
-TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on x and y only") {
-    Packed s = pack(ratio_30_table(), {true, true, false}, 70e-6, 0.35, 21);
-    check_list_matches_brute_force(s, "table, periodic xy");
-    Packed t = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 22);
-    check_list_matches_brute_force(t, "lognormal, periodic xy", 10);
-}
-
-TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, no periodic axis") {
-    Packed s = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 31);
-    check_list_matches_brute_force(s, "table, closed box");
-    Packed t = pack(ratio_30_lognormal(), {false, false, false}, 80e-6, 0.4, 32);
-    check_list_matches_brute_force(t, "lognormal, closed box", 10);
-}
-
-TEST_CASE("neighbour list: grains outside a closed box and wrapped across periodic faces") {
-    // Grains that drifted out of a closed box are binned in the edge cells; grains far outside
-    // a periodic box are wrapped in at build. Both must keep their pairs.
-    Packed s = pack(ratio_30_table(), {true, false, true}, 70e-6, 0.3, 41);
-    Rng rng(42);
-    for (Vec3& x : s.particles.position) {
-        if (rng.uniform() < 0.1) x.x += 70e-6 * std::floor(rng.uniform(-3, 3));  // whole periods
-        if (x.y < 5e-6) x.y -= 3e-6;  // out of the closed side, as a grain against a wall may be
+    TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on all axes") {
+        Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 11);
+        check_list_matches_brute_force(s, "table, periodic xyz");
+        Packed t = pack(ratio_30_lognormal(), {true, true, true}, 80e-6, 0.4, 12);
+        check_list_matches_brute_force(t, "lognormal, periodic xyz", 10);
     }
-    check_list_matches_brute_force(s, "periodic xz, grains outside");
-    for (const Vec3& x : s.particles.position) {
-        CHECK(x.x >= 0);
-        CHECK(x.x < 70e-6);
+
+    TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, periodic on x and y only") {
+        Packed s = pack(ratio_30_table(), {true, true, false}, 70e-6, 0.35, 21);
+        check_list_matches_brute_force(s, "table, periodic xy");
+        Packed t = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 22);
+        check_list_matches_brute_force(t, "lognormal, periodic xy", 10);
     }
-}
 
-TEST_CASE("neighbour list: every touching pair stays listed after moves shorter than skin / 2") {
-    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.5, 51);
-    check_list_survives_small_moves(a, 52, "periodic xyz");
-    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.5, 53);
-    check_list_survives_small_moves(b, 54, "periodic xy");
-    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.5, 55);
-    check_list_survives_small_moves(c, 56, "closed box");
-}
+    TEST_CASE("neighbour list: exactly the brute-force pairs, 30:1 sizes, no periodic axis") {
+        Packed s = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 31);
+        check_list_matches_brute_force(s, "table, closed box");
+        Packed t = pack(ratio_30_lognormal(), {false, false, false}, 80e-6, 0.4, 32);
+        check_list_matches_brute_force(t, "lognormal, closed box", 10);
+    }
 
-TEST_CASE("neighbour list: the same list for 1 and 2 threads") {
-    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 61);
-    check_threads_identical(a, "periodic xyz");
-    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 62);
-    check_threads_identical(b, "periodic xy");
-    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 63);
-    check_threads_identical(c, "closed box");
-}
-
-TEST_CASE("neighbour list: contact history follows its pair across a rebuild") {
-    Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.3, 71);
-    NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
-    list.build(s.particles, s.domain, 2);
-    const std::map<PairKey, double> tag = tag_history(list);
-    list.build(s.particles, s.domain, 1);  // same positions: the same pairs
-    const std::size_t carried = carried_tags(list, tag);
-    CHECK(carried == list.pair_count());
-}
-
-// The contact list filtered from the magnetic range (build_within) against a grid build of the
-// same list: the same pairs with the same owners and images, for 1 and 2 threads, history carried.
-void check_filtered_matches_grid(Packed& s, const std::string& label) {
-    CAPTURE(label);
-    // Reach 1.1 (R_i + R_j) + 1 um: as wide as the 70 um periodic box allows for 30 um grains.
-    NeighborList wide(NeighborList::Settings{s.skin, 1.1, false, 1e-6});
-    wide.build(s.particles, s.domain, 1);
-    CHECK(wide.pair_count() > 0);
-    CHECK(wide.history.empty());  // a list without history stores none
-    CHECK(wide.touching.empty());
-    NeighborList grid(NeighborList::Settings{s.skin, 1.0, true});
-    grid.build(s.particles, s.domain, 1);
-    const std::map<PairKey, Listed> expected = listed_pairs(grid, s.particles);
-    REQUIRE(expected.size() > 20);
-    for (const int threads : {1, 2}) {
-        CAPTURE(threads);
-        NeighborList filtered(NeighborList::Settings{s.skin, 1.0, true});
-        filtered.build_within(wide, s.particles, s.domain, threads);
-        const std::map<PairKey, Listed> got = listed_pairs(filtered, s.particles);
-        CHECK(got.size() == expected.size());
-        std::size_t same = 0;
-        for (const auto& [k, v] : got) {
-            const auto it = expected.find(k);
-            if (it != expected.end() && it->second.owner == v.owner && norm(it->second.d - v.d) == 0) ++same;
+    TEST_CASE("neighbour list: grains outside a closed box and wrapped across periodic faces") {
+        // Grains that drifted out of a closed box are binned in the edge cells; grains far outside
+        // a periodic box are wrapped in at build. Both must keep their pairs.
+        Packed s = pack(ratio_30_table(), {true, false, true}, 70e-6, 0.3, 41);
+        Rng rng(42);
+        for (Vec3& x : s.particles.position) {
+            if (rng.uniform() < 0.1) x.x += 70e-6 * std::floor(rng.uniform(-3, 3));  // whole periods
+            if (x.y < 5e-6) x.y -= 3e-6;  // out of the closed side, as a grain against a wall may be
         }
-        CHECK(same == expected.size());
-        CHECK(filtered.history.size() == filtered.pair_count());
-        // History carried across a filtered rebuild at the same positions.
-        const std::map<PairKey, double> tag = tag_history(filtered);
-        filtered.build_within(wide, s.particles, s.domain, threads);
-        const std::size_t carried = carried_tags(filtered, tag);
-        CHECK(carried == filtered.pair_count());
+        check_list_matches_brute_force(s, "periodic xz, grains outside");
+        for (const Vec3& x : s.particles.position) {
+            CHECK(x.x >= 0);
+            CHECK(x.x < 70e-6);
+        }
     }
-}
 
-TEST_CASE("neighbour list: the contacts filtered from a wider list are exactly the grid build's") {
-    Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 81);
-    check_filtered_matches_grid(a, "periodic xyz");
-    Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 82);
-    check_filtered_matches_grid(b, "periodic xy");
-    Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 83);
-    check_filtered_matches_grid(c, "closed box");
-}
+    TEST_CASE("neighbour list: every touching pair stays listed after moves shorter than skin / 2") {
+        Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.5, 51);
+        check_list_survives_small_moves(a, 52, "periodic xyz");
+        Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.5, 53);
+        check_list_survives_small_moves(b, 54, "periodic xy");
+        Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.5, 55);
+        check_list_survives_small_moves(c, 56, "closed box");
+    }
 
-TEST_CASE("neighbour list: filtering from a list that cannot hold every pair is refused") {
-    Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 84);
-    NeighborList target(NeighborList::Settings{s.skin, 1.0, true});
-    NeighborList other_skin(NeighborList::Settings{2 * s.skin, 1.1, false});
-    other_skin.build(s.particles, s.domain, 1);
-    CHECK_THROWS_AS(target.build_within(other_skin, s.particles, s.domain, 1), std::logic_error);
-    NeighborList shorter(NeighborList::Settings{s.skin, 0.5, false});
-    shorter.build(s.particles, s.domain, 1);
-    CHECK_THROWS_AS(target.build_within(shorter, s.particles, s.domain, 1), std::logic_error);
-    NeighborList wide(NeighborList::Settings{s.skin, 1.1, false});
-    wide.build(s.particles, s.domain, 1);
-    s.particles.position[3].x += 0.1 * s.skin;  // the grains moved since the wide list was built
-    CHECK_THROWS_AS(target.build_within(wide, s.particles, s.domain, 1), std::logic_error);
-}
+    TEST_CASE("neighbour list: the same list for 1 and 2 threads") {
+        Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 61);
+        check_threads_identical(a, "periodic xyz");
+        Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 62);
+        check_threads_identical(b, "periodic xy");
+        Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 63);
+        check_threads_identical(c, "closed box");
+    }
 
-TEST_CASE("neighbour list: a periodic box shorter than twice the cutoff is refused") {
-    Particles p;
-    p.add({1, 1, 1}, 1.0, 1000, 0);
-    p.add({3, 1, 1}, 0.5, 1000, 0);
-    Domain d;
-    d.lo = {0, 0, 0};
-    d.hi = {4, 10, 10};
-    d.periodic = {true, false, false};
-    NeighborList list(NeighborList::Settings{0.1, 1.0, true});
-    CHECK_THROWS_AS(list.build(p, d, 1), std::runtime_error);
-}
+    TEST_CASE("neighbour list: contact history follows its pair across a rebuild") {
+        Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.3, 71);
+        NeighborList list(NeighborList::Settings{s.skin, 1.0, true});
+        list.build(s.particles, s.domain, 2);
+        const std::map<PairKey, double> tag = tag_history(list);
+        list.build(s.particles, s.domain, 1);  // same positions: the same pairs
+        const std::size_t carried = carried_tags(list, tag);
+        CHECK(carried == list.pair_count());
+    }
 
-// Size ratios beyond ~40:1 in a box many cells long: the largest grain's stencil spans more than
-// 64 cells along an axis. Regression test: NeighborList::build once kept at most 64 cells per axis
-// (fixed-size arrays in AxisRange), so the stencil of a big grain was cut short and some of its
-// partners were never listed (238 of 267 at 50:1; 143 of 145 at 36:1 in a minimal periodic box).
-// One coarse grain among fine ones on a lattice; its pairs are checked against brute force.
-TEST_CASE("neighbour list: the stencil of a grain 36 to 50 times the mean size is not truncated") {
-    struct Case { double big_radius, box_x, centre_x; bool periodic_x; };
-    for (const Case c : {Case{50, 400, 200, false}, Case{40, 161.4, 10, true}, Case{36, 146, 5, true}}) {
-        CAPTURE(c.big_radius);
-        CAPTURE(c.periodic_x);
+    // The contact list filtered from the magnetic range (build_within) against a grid build of the
+    // same list: the same pairs with the same owners and images, for 1 and 2 threads, history carried.
+    void check_filtered_matches_grid(Packed & s, const std::string& label) {
+        CAPTURE(label);
+        // Reach 1.1 (R_i + R_j) + 1 um: as wide as the 70 um periodic box allows for 30 um grains.
+        NeighborList wide(NeighborList::Settings{s.skin, 1.1, false, 1e-6});
+        wide.build(s.particles, s.domain, 1);
+        CHECK(wide.pair_count() > 0);
+        CHECK(wide.history.empty());  // a list without history stores none
+        CHECK(wide.touching.empty());
+        NeighborList grid(NeighborList::Settings{s.skin, 1.0, true});
+        grid.build(s.particles, s.domain, 1);
+        const std::map<PairKey, Listed> expected = listed_pairs(grid, s.particles);
+        REQUIRE(expected.size() > 20);
+        for (const int threads : {1, 2}) {
+            CAPTURE(threads);
+            NeighborList filtered(NeighborList::Settings{s.skin, 1.0, true});
+            filtered.build_within(wide, s.particles, s.domain, threads);
+            const std::map<PairKey, Listed> got = listed_pairs(filtered, s.particles);
+            CHECK(got.size() == expected.size());
+            std::size_t same = 0;
+            for (const auto& [k, v] : got) {
+                const auto it = expected.find(k);
+                if (it != expected.end() && it->second.owner == v.owner && norm(it->second.d - v.d) == 0) ++same;
+            }
+            CHECK(same == expected.size());
+            CHECK(filtered.history.size() == filtered.pair_count());
+            // History carried across a filtered rebuild at the same positions.
+            const std::map<PairKey, double> tag = tag_history(filtered);
+            filtered.build_within(wide, s.particles, s.domain, threads);
+            const std::size_t carried = carried_tags(filtered, tag);
+            CHECK(carried == filtered.pair_count());
+        }
+    }
+
+    TEST_CASE("neighbour list: the contacts filtered from a wider list are exactly the grid build's") {
+        Packed a = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 81);
+        check_filtered_matches_grid(a, "periodic xyz");
+        Packed b = pack(ratio_30_lognormal(), {true, true, false}, 80e-6, 0.4, 82);
+        check_filtered_matches_grid(b, "periodic xy");
+        Packed c = pack(ratio_30_table(), {false, false, false}, 70e-6, 0.35, 83);
+        check_filtered_matches_grid(c, "closed box");
+    }
+
+    TEST_CASE("neighbour list: filtering from a list that cannot hold every pair is refused") {
+        Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 84);
+        NeighborList target(NeighborList::Settings{s.skin, 1.0, true});
+        NeighborList other_skin(NeighborList::Settings{2 * s.skin, 1.1, false});
+        other_skin.build(s.particles, s.domain, 1);
+        CHECK_THROWS_AS(target.build_within(other_skin, s.particles, s.domain, 1), std::logic_error);
+        NeighborList shorter(NeighborList::Settings{s.skin, 0.5, false});
+        shorter.build(s.particles, s.domain, 1);
+        CHECK_THROWS_AS(target.build_within(shorter, s.particles, s.domain, 1), std::logic_error);
+        NeighborList wide(NeighborList::Settings{s.skin, 1.1, false});
+        wide.build(s.particles, s.domain, 1);
+        s.particles.position[3].x += 0.1 * s.skin;  // the grains moved since the wide list was built
+        CHECK_THROWS_AS(target.build_within(wide, s.particles, s.domain, 1), std::logic_error);
+    }
+
+    TEST_CASE("neighbour list: a periodic box shorter than twice the cutoff is refused") {
         Particles p;
+        p.add({1, 1, 1}, 1.0, 1000, 0);
+        p.add({3, 1, 1}, 0.5, 1000, 0);
         Domain d;
         d.lo = {0, 0, 0};
-        d.hi = {c.box_x, 2 * c.big_radius + 10, 2 * c.big_radius + 10};
-        d.periodic = {c.periodic_x, false, false};
-        const Vec3 centre{c.centre_x, c.big_radius + 5, c.big_radius + 5};
-        p.add(centre, c.big_radius, 1000, 0);
-        for (double x = 1.2; x < d.hi.x - 1; x += 2.5)
-            for (double y = 1.2; y < d.hi.y - 1; y += 2.5)
-                for (double z = 1.2; z < d.hi.z - 1; z += 2.5) {
-                    const Vec3 q{x, y, z};
-                    if (norm(d.separation(centre, q)) < c.big_radius + 1.05) continue;
-                    p.add(q, 1.0, 1000, 0);
-                }
-        NeighborList list(NeighborList::Settings{0.2, 1.0, true});
-        list.build(p, d, 1);
-        std::size_t listed = list.offsets[1] - list.offsets[0], brute = 0;
-        for (std::size_t j = 1; j < p.size(); ++j)
-            if (norm(d.separation(p.position[0], p.position[j])) < list.pair_cutoff(c.big_radius, 1.0)) ++brute;
-        CHECK(brute > 100);
-        CHECK(listed == brute);
+        d.hi = {4, 10, 10};
+        d.periodic = {true, false, false};
+        NeighborList list(NeighborList::Settings{0.1, 1.0, true});
+        CHECK_THROWS_AS(list.build(p, d, 1), std::runtime_error);
     }
-}
+
+    // Size ratios beyond ~40:1 in a box many cells long: the largest grain's stencil spans more than
+    // 64 cells along an axis. Regression test: NeighborList::build once kept at most 64 cells per axis
+    // (fixed-size arrays in AxisRange), so the stencil of a big grain was cut short and some of its
+    // partners were never listed (238 of 267 at 50:1; 143 of 145 at 36:1 in a minimal periodic box).
+    // One coarse grain among fine ones on a lattice; its pairs are checked against brute force.
+    TEST_CASE("neighbour list: the stencil of a grain 36 to 50 times the mean size is not truncated") {
+        struct Case {
+            double big_radius, box_x, centre_x;
+            bool periodic_x;
+        };
+        for (const Case c : {Case{50, 400, 200, false}, Case{40, 161.4, 10, true}, Case{36, 146, 5, true}}) {
+            CAPTURE(c.big_radius);
+            CAPTURE(c.periodic_x);
+            Particles p;
+            Domain d;
+            d.lo = {0, 0, 0};
+            d.hi = {c.box_x, 2 * c.big_radius + 10, 2 * c.big_radius + 10};
+            d.periodic = {c.periodic_x, false, false};
+            const Vec3 centre{c.centre_x, c.big_radius + 5, c.big_radius + 5};
+            p.add(centre, c.big_radius, 1000, 0);
+            for (double x = 1.2; x < d.hi.x - 1; x += 2.5)
+                for (double y = 1.2; y < d.hi.y - 1; y += 2.5)
+                    for (double z = 1.2; z < d.hi.z - 1; z += 2.5) {
+                        const Vec3 q{x, y, z};
+                        if (norm(d.separation(centre, q)) < c.big_radius + 1.05) continue;
+                        p.add(q, 1.0, 1000, 0);
+                    }
+            NeighborList list(NeighborList::Settings{0.2, 1.0, true});
+            list.build(p, d, 1);
+            std::size_t listed = list.offsets[1] - list.offsets[0], brute = 0;
+            for (std::size_t j = 1; j < p.size(); ++j)
+                if (norm(d.separation(p.position[0], p.position[j])) < list.pair_cutoff(c.big_radius, 1.0)) ++brute;
+            CHECK(brute > 100);
+            CHECK(listed == brute);
+        }
+    }
 
 }  // TEST_SUITE

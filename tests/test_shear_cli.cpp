@@ -17,12 +17,20 @@ json small_scene(const std::string& out_dir) {
     return {{"description", "test"},
             {"size", {{"distribution", "single"}, {"diameter", "6.7 um"}}},
             {"cell", {{"size", {"40 um", "40 um", "40 um"}}, {"raft_thickness", "7 um"}}},
-            {"material", {{"density", "7800 kg/m3"}, {"youngs_modulus", "1 GPa"}, {"poisson_ratio", 0.278}, {"restitution", 0.1},
-                          {"friction", 0.1}, {"rolling_friction", 0.1}, {"rolling_damping", 0.1}, {"cohesion_energy_density", "60 kJ/m3"}}},
+            {"material",
+             {{"density", "7800 kg/m3"},
+              {"youngs_modulus", "1 GPa"},
+              {"poisson_ratio", 0.278},
+              {"restitution", 0.1},
+              {"friction", 0.1},
+              {"rolling_friction", 0.1},
+              {"rolling_damping", 0.1},
+              {"cohesion_energy_density", "60 kJ/m3"}}},
             {"fluid", {{"viscosity", "10 mPa s"}}},
             {"field", {{"flux_density", "600 mT"}}},
             {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "6 us"}, {"field_ramp", "2 us"}}},
-            {"ladder", {{"shear_rates", {"3000 1/s", "1500 1/s", "600 1/s"}}, {"strain_first", 0.1}, {"strain_per_rate", 0.05}}},
+            {"ladder",
+             {{"shear_rates", {"3000 1/s", "1500 1/s", "600 1/s"}}, {"strain_first", 0.1}, {"strain_per_rate", 0.05}}},
             {"measure", {{"samples_per_rate", 20}, {"blocks", 5}}},
             {"experiment", {{"yield_stress", "44.9 kPa"}, {"flow_curve", {{1000, 50000}, {300, 46000}}}}},
             {"output", {{"directory", out_dir}}}};
@@ -30,8 +38,8 @@ json small_scene(const std::string& out_dir) {
 
 Result shear(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra = "") {
     write_text(dir.file(name + ".json"), scene.dump(2));
-    return mrjam(dir, "shear " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --fidelity quick " + extra);
+    return mrjam(dir, "shear " + quote(dir.file(name + ".json")) + " --report " +
+                          quote(dir.file(name + "_report.json")) + " --fidelity quick " + extra);
 }
 
 void expect_shear_refused(const TempDir& dir, const std::string& label, const json& scene, const std::string& path) {
@@ -41,169 +49,170 @@ void expect_shear_refused(const TempDir& dir, const std::string& label, const js
 }  // namespace
 
 TEST_SUITE("cli") {
-
-TEST_CASE("shear cli: a short study reports the flow curve, the fits, the yield stress, the field sweep and its plots") {
-    TempDir dir;
-    json scene = small_scene(dir.file("out"));
-    scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1000 1/s"}, {"strain", 0.05}};
-    const Result r = shear(dir, "s", scene);
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    CHECK(r.err.find("[shear]") != std::string::npos);  // progress on stderr
-    const json rep = json::parse(slurp(dir.file("s_report.json")));
-    CHECK(rep["mode"] == "shear");
-    CHECK(rep["status"] == "complete");
-    CHECK(rep["fidelity"]["tier"] == "quick");
-    const json& res = rep["results"];
-    REQUIRE(res["flow_curve"].size() == 3);
-    for (const auto& q : res["flow_curve"]) {
-        CHECK(q["rate_1_s"].get<double>() > 0);
-        CHECK(q["stress_Pa"].is_number());
-        CHECK(q["error_Pa"].get<double>() >= 0);
-    }
-    CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
-    REQUIRE(res["yield_stress_Pa"].is_number());
-    CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);
-    CHECK(res["fits"].contains("casson"));
-    CHECK(res["fits"].contains("herschel_bulkley"));
-    CHECK(res["magnetisation"].contains("criterion"));
-    CHECK(res["experiment"]["yield_stress_Pa"].get<double>() == rel(44.9e3));
-    CHECK(res["experiment"].contains("relative_error"));
-    REQUIRE(res["field_sweep"].size() == 2);
-    CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == rel(0.4));
-    CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
-    for (const char* key : {"flow_curve", "field_sweep"}) {
-        const std::string svg = slurp(rep["plots"][key].get<std::string>());
-        CHECK(svg.rfind("<svg", 0) == 0);
-    }
-}
-
-TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when asked") {
-    TempDir dir;
-    json scene = small_scene(dir.file("out"));
-    scene["dissipation"] = "contact_damping";
-    const Result r = shear(dir, "damped", scene, "--quiet");
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json rep = json::parse(slurp(dir.file("damped_report.json")));
-    CHECK_FALSE(rep["engine_scene"].contains("fluid"));  // no drag against the affine flow
-    // Default coefficient: the Stokes coefficient of the mean grain, 6 pi mu R = 3 pi mu d.
-    CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == rel(3 * M_PI * 0.01 * 6.7e-6));
-    CHECK(rep["results"]["flow_curve"].size() == 3);
-    scene.erase("dissipation");
-    scene["contact_damping"] = "1 uN s/m";
-    const Result stray = shear(dir, "stray", scene, "--quiet");
-    CHECK(stray.exit_code == 2);
-    CHECK(stray.err.find("/contact_damping") != std::string::npos);
-}
-
-TEST_CASE("shear cli: a monolayer cell runs end to end, with rafts and with Lees-Edwards boundaries") {
-    TempDir dir;
-    for (const char* boundaries : {"rafts", "lees_edwards"}) {
-        CAPTURE(boundaries);
-        json scene = small_scene(dir.file(std::string("out_") + boundaries));
-        scene["cell"] = {{"size", {"40 um", "6.7 um", "40 um"}}, {"monolayer", true}, {"boundaries", boundaries}};
-        if (std::string(boundaries) == "rafts") scene["cell"]["raft_thickness"] = "7 um";
-        scene["area_fraction"] = 0.6;
-        const Result r = shear(dir, std::string("mono_") + boundaries, scene, "--quiet");
+    TEST_CASE(
+        "shear cli: a short study reports the flow curve, the fits, the yield stress, the field sweep and its plots") {
+        TempDir dir;
+        json scene = small_scene(dir.file("out"));
+        scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1000 1/s"}, {"strain", 0.05}};
+        const Result r = shear(dir, "s", scene);
         CAPTURE(r.err);
         REQUIRE(r.exit_code == 0);
-        const json rep = json::parse(slurp(dir.file(std::string("mono_") + boundaries + "_report.json")));
-        const json& cell = rep["results"]["cell"];
-        CHECK(cell["monolayer"] == true);
-        CHECK(cell["stress_thickness_m"].get<double>() == rel(6.7e-6));
-        // 0.6 of a 40 um square in 6.7 um discs: 0.6 x 1600 / 35.3 = 27 discs.
-        CHECK(cell["grains"].get<int>() == rel(27).epsilon(0.1));
-        REQUIRE(rep["results"]["flow_curve"].size() == 3);
-        for (const auto& q : rep["results"]["flow_curve"]) CHECK(std::isfinite(q["stress_Pa"].get<double>()));
-        CHECK(rep["engine_scene"]["domain"]["monolayer"] == "y");
+        CHECK(r.err.find("[shear]") != std::string::npos);  // progress on stderr
+        const json rep = json::parse(slurp(dir.file("s_report.json")));
+        CHECK(rep["mode"] == "shear");
+        CHECK(rep["status"] == "complete");
+        CHECK(rep["fidelity"]["tier"] == "quick");
+        const json& res = rep["results"];
+        REQUIRE(res["flow_curve"].size() == 3);
+        for (const auto& q : res["flow_curve"]) {
+            CHECK(q["rate_1_s"].get<double>() > 0);
+            CHECK(q["stress_Pa"].is_number());
+            CHECK(q["error_Pa"].get<double>() >= 0);
+        }
+        CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
+        REQUIRE(res["yield_stress_Pa"].is_number());
+        CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);
+        CHECK(res["fits"].contains("casson"));
+        CHECK(res["fits"].contains("herschel_bulkley"));
+        CHECK(res["magnetisation"].contains("criterion"));
+        CHECK(res["experiment"]["yield_stress_Pa"].get<double>() == rel(44.9e3));
+        CHECK(res["experiment"].contains("relative_error"));
+        REQUIRE(res["field_sweep"].size() == 2);
+        CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == rel(0.4));
+        CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
+        for (const char* key : {"flow_curve", "field_sweep"}) {
+            const std::string svg = slurp(rep["plots"][key].get<std::string>());
+            CHECK(svg.rfind("<svg", 0) == 0);
+        }
     }
-}
 
-TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {
-    TempDir dir;
-    json base = small_scene(dir.file("out"));
-    {
-        json s = base;
-        s["ladder"]["shear_rates"] = {"600 1/s", "1500 1/s"};
-        expect_shear_refused(dir, "increasing_rates", s, "/ladder/shear_rates/1");
+    TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when asked") {
+        TempDir dir;
+        json scene = small_scene(dir.file("out"));
+        scene["dissipation"] = "contact_damping";
+        const Result r = shear(dir, "damped", scene, "--quiet");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file("damped_report.json")));
+        CHECK_FALSE(rep["engine_scene"].contains("fluid"));  // no drag against the affine flow
+        // Default coefficient: the Stokes coefficient of the mean grain, 6 pi mu R = 3 pi mu d.
+        CHECK(rep["engine_scene"]["contact"]["pair_damping"].get<double>() == rel(3 * M_PI * 0.01 * 6.7e-6));
+        CHECK(rep["results"]["flow_curve"].size() == 3);
+        scene.erase("dissipation");
+        scene["contact_damping"] = "1 uN s/m";
+        const Result stray = shear(dir, "stray", scene, "--quiet");
+        CHECK(stray.exit_code == 2);
+        CHECK(stray.err.find("/contact_damping") != std::string::npos);
     }
-    {
-        json s = base;
-        s["ladder"].erase("shear_rates");
-        s["ladder"]["wall_speeds"] = {0.1, 0.05, 0.05};
-        expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
+
+    TEST_CASE("shear cli: a monolayer cell runs end to end, with rafts and with Lees-Edwards boundaries") {
+        TempDir dir;
+        for (const char* boundaries : {"rafts", "lees_edwards"}) {
+            CAPTURE(boundaries);
+            json scene = small_scene(dir.file(std::string("out_") + boundaries));
+            scene["cell"] = {{"size", {"40 um", "6.7 um", "40 um"}}, {"monolayer", true}, {"boundaries", boundaries}};
+            if (std::string(boundaries) == "rafts") scene["cell"]["raft_thickness"] = "7 um";
+            scene["area_fraction"] = 0.6;
+            const Result r = shear(dir, std::string("mono_") + boundaries, scene, "--quiet");
+            CAPTURE(r.err);
+            REQUIRE(r.exit_code == 0);
+            const json rep = json::parse(slurp(dir.file(std::string("mono_") + boundaries + "_report.json")));
+            const json& cell = rep["results"]["cell"];
+            CHECK(cell["monolayer"] == true);
+            CHECK(cell["stress_thickness_m"].get<double>() == rel(6.7e-6));
+            // 0.6 of a 40 um square in 6.7 um discs: 0.6 x 1600 / 35.3 = 27 discs.
+            CHECK(cell["grains"].get<int>() == rel(27).epsilon(0.1));
+            REQUIRE(rep["results"]["flow_curve"].size() == 3);
+            for (const auto& q : rep["results"]["flow_curve"]) CHECK(std::isfinite(q["stress_Pa"].get<double>()));
+            CHECK(rep["engine_scene"]["domain"]["monolayer"] == "y");
+        }
     }
-    {
-        json s = base;
-        s["cell"] = {{"size", {"40 um", "40 um", "20 um"}}, {"raft_thickness", "3 um"}};
-        expect_shear_refused(dir, "thin_cell", s, "/cell/size");
+
+    TEST_CASE("shear cli: bad shear scenes are refused with the JSON path and a fix") {
+        TempDir dir;
+        json base = small_scene(dir.file("out"));
+        {
+            json s = base;
+            s["ladder"]["shear_rates"] = {"600 1/s", "1500 1/s"};
+            expect_shear_refused(dir, "increasing_rates", s, "/ladder/shear_rates/1");
+        }
+        {
+            json s = base;
+            s["ladder"].erase("shear_rates");
+            s["ladder"]["wall_speeds"] = {0.1, 0.05, 0.05};
+            expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
+        }
+        {
+            json s = base;
+            s["cell"] = {{"size", {"40 um", "40 um", "20 um"}}, {"raft_thickness", "3 um"}};
+            expect_shear_refused(dir, "thin_cell", s, "/cell/size");
+        }
+        {
+            json s = base;
+            s["size"] = {{"distribution", "table"}, {"diameters", json::array()}, {"frequencies", json::array()}};
+            expect_shear_refused(dir, "empty_table", s, "/size/diameters");
+        }
+        {
+            json s = base;
+            s["material"]["frictoin"] = 0.2;
+            expect_shear_refused(dir, "typo", s, "/material/frictoin");
+        }
+        {
+            // A field still ramping when the shear starts (it gave a negative yield stress), and a
+            // single block, whose error bar would read 0.
+            json s = base;
+            s["magnetise"]["field_ramp"] = "4 us";
+            expect_shear_refused(dir, "ramp_past_magnetisation", s, "/magnetise/field_ramp");
+            s = base;
+            s["measure"]["blocks"] = 1;
+            expect_shear_refused(dir, "one_block", s, "/measure/blocks");
+        }
+        {
+            json s = base;
+            s["cell"]["boundaries"] = "lees_edward";
+            expect_shear_refused(dir, "boundaries_typo", s, "/cell/boundaries");
+        }
+        {
+            json s = base;
+            s["cell"]["boundaries"] = "lees_edwards";  // keeps raft_thickness: a Lees-Edwards cell has no rafts
+            expect_shear_refused(dir, "rafts_with_lees_edwards", s, "/cell/raft_thickness");
+        }
+        json mono = base;
+        mono["cell"]["monolayer"] = true;
+        mono["cell"]["size"] = {"40 um", "6.7 um", "40 um"};
+        mono.erase("volume_fraction");
+        {
+            json s = mono;
+            s["volume_fraction"] = 0.3;
+            expect_shear_refused(dir, "monolayer_volume_fraction", s, "/volume_fraction");
+        }
+        {
+            json s = mono;
+            s["area_fraction"] = 0.9;
+            expect_shear_refused(dir, "monolayer_too_dense", s, "/area_fraction");
+        }
+        {
+            json s = mono;
+            s["field"]["direction"] = {0, 1, 0};
+            expect_shear_refused(dir, "monolayer_field_out_of_plane", s, "/field/direction");
+        }
+        {
+            json s = mono;
+            s["cell"]["size"] = {"40 um", "3 um", "40 um"};
+            expect_shear_refused(dir, "monolayer_too_thin", s, "/cell/size");
+        }
+        {
+            json s = base;
+            s["area_fraction"] = 0.5;
+            expect_shear_refused(dir, "area_fraction_in_3d", s, "/area_fraction");
+        }
+        {
+            json s = base;
+            s["size"] = {{"distribution", "mixture"},
+                         {"parts", {{{"share", 0}, {"size", {{"distribution", "single"}, {"diameter", "5 um"}}}}}}};
+            expect_shear_refused(dir, "zero_share", s, "/size/parts");
+        }
     }
-    {
-        json s = base;
-        s["size"] = {{"distribution", "table"}, {"diameters", json::array()}, {"frequencies", json::array()}};
-        expect_shear_refused(dir, "empty_table", s, "/size/diameters");
-    }
-    {
-        json s = base;
-        s["material"]["frictoin"] = 0.2;
-        expect_shear_refused(dir, "typo", s, "/material/frictoin");
-    }
-    {
-        // A field still ramping when the shear starts (it gave a negative yield stress), and a
-        // single block, whose error bar would read 0.
-        json s = base;
-        s["magnetise"]["field_ramp"] = "4 us";
-        expect_shear_refused(dir, "ramp_past_magnetisation", s, "/magnetise/field_ramp");
-        s = base;
-        s["measure"]["blocks"] = 1;
-        expect_shear_refused(dir, "one_block", s, "/measure/blocks");
-    }
-    {
-        json s = base;
-        s["cell"]["boundaries"] = "lees_edward";
-        expect_shear_refused(dir, "boundaries_typo", s, "/cell/boundaries");
-    }
-    {
-        json s = base;
-        s["cell"]["boundaries"] = "lees_edwards";  // keeps raft_thickness: a Lees-Edwards cell has no rafts
-        expect_shear_refused(dir, "rafts_with_lees_edwards", s, "/cell/raft_thickness");
-    }
-    json mono = base;
-    mono["cell"]["monolayer"] = true;
-    mono["cell"]["size"] = {"40 um", "6.7 um", "40 um"};
-    mono.erase("volume_fraction");
-    {
-        json s = mono;
-        s["volume_fraction"] = 0.3;
-        expect_shear_refused(dir, "monolayer_volume_fraction", s, "/volume_fraction");
-    }
-    {
-        json s = mono;
-        s["area_fraction"] = 0.9;
-        expect_shear_refused(dir, "monolayer_too_dense", s, "/area_fraction");
-    }
-    {
-        json s = mono;
-        s["field"]["direction"] = {0, 1, 0};
-        expect_shear_refused(dir, "monolayer_field_out_of_plane", s, "/field/direction");
-    }
-    {
-        json s = mono;
-        s["cell"]["size"] = {"40 um", "3 um", "40 um"};
-        expect_shear_refused(dir, "monolayer_too_thin", s, "/cell/size");
-    }
-    {
-        json s = base;
-        s["area_fraction"] = 0.5;
-        expect_shear_refused(dir, "area_fraction_in_3d", s, "/area_fraction");
-    }
-    {
-        json s = base;
-        s["size"] = {{"distribution", "mixture"}, {"parts", {{{"share", 0}, {"size", {{"distribution", "single"}, {"diameter", "5 um"}}}}}}};
-        expect_shear_refused(dir, "zero_share", s, "/size/parts");
-    }
-}
 
 }  // TEST_SUITE
 
@@ -214,7 +223,9 @@ namespace {
 // `at`: the share of the whole study's wall time at which it is interrupted.
 void check_resume_matches(const TempDir& dir, json scene, double at = 0.5) {
     scene["output"]["directory"] = dir.file("out_full");
-    scene["ladder"] = {{"shear_rates", {"3000 1/s", "2000 1/s", "1000 1/s", "500 1/s"}}, {"strain_first", 0.3}, {"strain_per_rate", 0.1}};
+    scene["ladder"] = {{"shear_rates", {"3000 1/s", "2000 1/s", "1000 1/s", "500 1/s"}},
+                       {"strain_first", 0.3},
+                       {"strain_per_rate", 0.1}};
     const Result full = shear(dir, "full", scene, "--quiet");
     REQUIRE(full.exit_code == 0);
     const json a = json::parse(slurp(dir.file("full_report.json")));
@@ -223,8 +234,10 @@ void check_resume_matches(const TempDir& dir, json scene, double at = 0.5) {
     write_text(dir.file("cut.json"), scene.dump());
     const double wall = a["wall_time_s"].get<double>();
     const std::string delay = std::to_string(std::max(0.05, at * wall));
-    const Result cut = mrjam(dir, "shear " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
-                                      " --fidelity quick --quiet", " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+    const Result cut = mrjam(dir,
+                             "shear " + quote(dir.file("cut.json")) + " --report " +
+                                 quote(dir.file("cut_report.json")) + " --fidelity quick --quiet",
+                             " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
     if (cut.exit_code == 0) {
         MESSAGE("the study finished before the signal arrived: nothing to resume");
         return;
@@ -269,90 +282,100 @@ void check_resume_matches(const TempDir& dir, json scene, double at = 0.5) {
 }  // namespace
 
 TEST_SUITE("cli") {
-
-TEST_CASE("shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
-    TempDir dir;
-    check_resume_matches(dir, small_scene(""));
-}
-
-TEST_CASE("shear cli: a field sweep interrupted after its first cell resumes and reports as the uninterrupted one") {
-    TempDir dir;
-    json scene = small_scene("");
-    // A sweep rate that is not on the ladder, so the progress lines tell the cells apart.
-    scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1200 1/s"}, {"strain", 0.05}};
-    check_resume_matches(dir, scene, 0.85);
-}
-
-TEST_CASE("shear cli: an interrupted Lees-Edwards study resumes bit for bit (the checkpoint carries the sliding offset)") {
-    TempDir dir;
-    json scene = small_scene("");
-    scene["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"boundaries", "lees_edwards"}};
-    check_resume_matches(dir, scene);
-    const json rep = json::parse(slurp(dir.file("full_report.json")));
-    CHECK(rep["results"]["cell"]["boundaries"] == "lees_edwards");
-    CHECK(rep["results"]["cell"]["gap_m"].get<double>() == rel(40e-6));
-    if (rep["results"]["cell"].contains("rafts")) CHECK(rep["results"]["cell"]["rafts"].empty());
-    for (const auto& q : rep["results"]["flow_curve"]) {
-        CHECK(q["stress_source"] == "virial of the Lees-Edwards box");
-        CHECK(q["stress_Pa"] == q["bulk_stress_Pa"]);
-        CHECK_FALSE(q.contains("lower_raft_stress_Pa"));
+    TEST_CASE(
+        "shear cli: an interrupted study resumes without redoing finished rates and ends as the uninterrupted one") {
+        TempDir dir;
+        check_resume_matches(dir, small_scene(""));
     }
-}
 
-TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and reports the optimum") {
-    TempDir dir;
-    const json scene = small_scene(dir.file("out"));
-    write_text(dir.file("data.csv"), "# rate (1/s), stress (Pa)\nrate,stress\n3000, 30000\n1500, 28000\n");
-    const Result r = shear(dir, "cal", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter field_scale=0.5:1.5 --max-runs 4");
-    CAPTURE(r.err);
-    REQUIRE(r.exit_code == 0);
-    const json rep = json::parse(slurp(dir.file("cal_report.json")));
-    CHECK(rep["mode"] == "shear-calibrate");
-    REQUIRE(rep["runs"].size() == 4);
-    double best = 1e300;
-    for (const auto& run : rep["runs"]) {
-        const double f = run["values"]["field_scale"];
-        CHECK(f >= 0.5);
-        CHECK(f <= 1.5);
-        if (run["residual"].is_number()) best = std::min(best, run["residual"].get<double>());
+    TEST_CASE(
+        "shear cli: a field sweep interrupted after its first cell resumes and reports as the uninterrupted one") {
+        TempDir dir;
+        json scene = small_scene("");
+        // A sweep rate that is not on the ladder, so the progress lines tell the cells apart.
+        scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1200 1/s"}, {"strain", 0.05}};
+        check_resume_matches(dir, scene, 0.85);
     }
-    CHECK(rep["best"]["residual"].get<double>() == best);
-    CHECK(rep["best"]["flow_curve"].size() == 2);  // the ladder is the data's rates
-    CHECK(slurp(rep["plots"]["calibration"].get<std::string>()).rfind("<svg", 0) == 0);
 
-    write_text(dir.file("bad.csv"), "1000, 2\n");
-    const Result bad = shear(dir, "bad", scene, "--quiet --calibrate " + quote(dir.file("bad.csv")) + " --parameter friction=0.05:0.3");
-    CHECK(bad.exit_code == 2);
-    CHECK(bad.err.find("--calibrate") != std::string::npos);
-    const Result unknown = shear(dir, "unk", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter fricton=0.05:0.3");
-    CHECK(unknown.exit_code == 2);
-    CHECK(unknown.err.find("fricton") != std::string::npos);
-    // A range with units or trailing text (stod read "0.1 um" as 0.1), a pointer that is not
-    // one, and a parameter without --calibrate: refused, naming --parameter.
-    for (const std::string& bad_parameter : {"--calibrate " + quote(dir.file("data.csv")) + " --parameter 'friction=0.1 um:0.5'",
-                                             "--calibrate " + quote(dir.file("data.csv")) + " --parameter friction=0:0.5xyz",
-                                             "--calibrate " + quote(dir.file("data.csv")) + " --parameter '/material/fr~iction=0:1'",
-                                             std::string("--parameter friction=0:0.5"), std::string("--max-runs 3")}) {
-        CAPTURE(bad_parameter);
-        const Result refused = shear(dir, "badp", scene, "--quiet " + bad_parameter);
-        CHECK(refused.exit_code == 2);
-        CHECK((refused.err.find("--parameter") != std::string::npos || refused.err.find("--max-runs") != std::string::npos));
+    TEST_CASE(
+        "shear cli: an interrupted Lees-Edwards study resumes bit for bit (the checkpoint carries the sliding "
+        "offset)") {
+        TempDir dir;
+        json scene = small_scene("");
+        scene["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"boundaries", "lees_edwards"}};
+        check_resume_matches(dir, scene);
+        const json rep = json::parse(slurp(dir.file("full_report.json")));
+        CHECK(rep["results"]["cell"]["boundaries"] == "lees_edwards");
+        CHECK(rep["results"]["cell"]["gap_m"].get<double>() == rel(40e-6));
+        if (rep["results"]["cell"].contains("rafts")) CHECK(rep["results"]["cell"]["rafts"].empty());
+        for (const auto& q : rep["results"]["flow_curve"]) {
+            CHECK(q["stress_source"] == "virial of the Lees-Edwards box");
+            CHECK(q["stress_Pa"] == q["bulk_stress_Pa"]);
+            CHECK_FALSE(q.contains("lower_raft_stress_Pa"));
+        }
     }
-    // A range past what its key accepts (restitution in (0, 1], a negative friction, a
-    // permeability below 1) is refused before the first study, naming the corner and the key;
-    // it used to fail at the search's first step outside, after the studies before it.
-    for (const std::string range : {"restitution=0.5:1.5", "friction=-0.1:0.5", "relative_permeability=0.5:100"}) {
-        CAPTURE(range);
-        const Result refused = shear(dir, "range", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter " + range);
-        CHECK(refused.exit_code == 2);
-        CHECK(refused.err.find("--parameter") != std::string::npos);
-        CHECK(refused.err.find("/material/" + range.substr(0, range.find('='))) != std::string::npos);
-        CHECK(refused.err.find("corner") != std::string::npos);
+
+    TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and reports the optimum") {
+        TempDir dir;
+        const json scene = small_scene(dir.file("out"));
+        write_text(dir.file("data.csv"), "# rate (1/s), stress (Pa)\nrate,stress\n3000, 30000\n1500, 28000\n");
+        const Result r = shear(
+            dir, "cal", scene,
+            "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter field_scale=0.5:1.5 --max-runs 4");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file("cal_report.json")));
+        CHECK(rep["mode"] == "shear-calibrate");
+        REQUIRE(rep["runs"].size() == 4);
+        double best = 1e300;
+        for (const auto& run : rep["runs"]) {
+            const double f = run["values"]["field_scale"];
+            CHECK(f >= 0.5);
+            CHECK(f <= 1.5);
+            if (run["residual"].is_number()) best = std::min(best, run["residual"].get<double>());
+        }
+        CHECK(rep["best"]["residual"].get<double>() == best);
+        CHECK(rep["best"]["flow_curve"].size() == 2);  // the ladder is the data's rates
+        CHECK(slurp(rep["plots"]["calibration"].get<std::string>()).rfind("<svg", 0) == 0);
+
+        write_text(dir.file("bad.csv"), "1000, 2\n");
+        const Result bad = shear(
+            dir, "bad", scene, "--quiet --calibrate " + quote(dir.file("bad.csv")) + " --parameter friction=0.05:0.3");
+        CHECK(bad.exit_code == 2);
+        CHECK(bad.err.find("--calibrate") != std::string::npos);
+        const Result unknown = shear(
+            dir, "unk", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter fricton=0.05:0.3");
+        CHECK(unknown.exit_code == 2);
+        CHECK(unknown.err.find("fricton") != std::string::npos);
+        // A range with units or trailing text (stod read "0.1 um" as 0.1), a pointer that is not
+        // one, and a parameter without --calibrate: refused, naming --parameter.
+        for (const std::string& bad_parameter :
+             {"--calibrate " + quote(dir.file("data.csv")) + " --parameter 'friction=0.1 um:0.5'",
+              "--calibrate " + quote(dir.file("data.csv")) + " --parameter friction=0:0.5xyz",
+              "--calibrate " + quote(dir.file("data.csv")) + " --parameter '/material/fr~iction=0:1'",
+              std::string("--parameter friction=0:0.5"), std::string("--max-runs 3")}) {
+            CAPTURE(bad_parameter);
+            const Result refused = shear(dir, "badp", scene, "--quiet " + bad_parameter);
+            CHECK(refused.exit_code == 2);
+            CHECK((refused.err.find("--parameter") != std::string::npos ||
+                   refused.err.find("--max-runs") != std::string::npos));
+        }
+        // A range past what its key accepts (restitution in (0, 1], a negative friction, a
+        // permeability below 1) is refused before the first study, naming the corner and the key;
+        // it used to fail at the search's first step outside, after the studies before it.
+        for (const std::string range : {"restitution=0.5:1.5", "friction=-0.1:0.5", "relative_permeability=0.5:100"}) {
+            CAPTURE(range);
+            const Result refused = shear(
+                dir, "range", scene, "--quiet --calibrate " + quote(dir.file("data.csv")) + " --parameter " + range);
+            CHECK(refused.exit_code == 2);
+            CHECK(refused.err.find("--parameter") != std::string::npos);
+            CHECK(refused.err.find("/material/" + range.substr(0, range.find('='))) != std::string::npos);
+            CHECK(refused.err.find("corner") != std::string::npos);
+        }
+        // A scene path that is a directory says so.
+        const Result directory = mrjam(dir, "shear " + quote(dir.file("")) + " --quiet");
+        CHECK(directory.exit_code == 2);
+        CHECK(directory.err.find("is a directory") != std::string::npos);
     }
-    // A scene path that is a directory says so.
-    const Result directory = mrjam(dir, "shear " + quote(dir.file("")) + " --quiet");
-    CHECK(directory.exit_code == 2);
-    CHECK(directory.err.find("is a directory") != std::string::npos);
-}
 
 }  // TEST_SUITE

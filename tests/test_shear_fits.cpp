@@ -2,11 +2,10 @@
 // synthetic flow curves exactly, and block averaging gives sigma / sqrt(n) for independent data.
 #include <doctest/doctest.h>
 
-#include "rel_approx.hpp"
-
 #include <cmath>
 #include <random>
 
+#include "rel_approx.hpp"
 #include "shear/block_average.hpp"
 #include "shear/flow_curve_fit.hpp"
 
@@ -24,92 +23,99 @@ const std::vector<double> kRates = {1164, 582, 291, 100, 73, 36, 18, 9};
 }  // namespace
 
 TEST_SUITE("unit") {
-
-TEST_CASE("shear fits: Bingham recovers tau_y and eta from exact data, using only rates above the threshold") {
-    // Below 200 1/s the data follow another law: the fit must ignore them.
-    auto law = [](double g) { return g >= 200 ? 44.9e3 + 3.5 * g : 1e3; };
-    const auto pts = synthetic(kRates, law);
-    const ModelFit f = fit_bingham(pts, 200);
-    REQUIRE(f.ok);
-    CHECK(f.points == 3);
-    CHECK(f.yield_stress == rel(44.9e3).epsilon(1e-12));
-    CHECK(f.viscosity == rel(3.5).epsilon(1e-10));
-    CHECK(f.yield_stress_error == doctest::Approx(0).scale(1e3).epsilon(1e-9));  // exact data: no scatter, no error bars
-}
-
-TEST_CASE("shear fits: Bingham uncertainty propagates the points' error bars when two points fit exactly") {
-    // Two points, each +-s: intercept = (g2 y1 - g1 y2)/(g2 - g1), so its error is
-    // s sqrt(g1^2 + g2^2) / |g2 - g1|.
-    const double s = 500;
-    const std::vector<FlowPoint> pts = {{1000, 50e3, s}, {300, 46e3, s}};
-    const ModelFit f = fit_bingham(pts, 200);
-    REQUIRE(f.ok);
-    CHECK(f.yield_stress_error == rel(s * std::sqrt(1000.0 * 1000 + 300.0 * 300) / 700).epsilon(1e-12));
-    CHECK_FALSE(fit_bingham({{100, 1e3, 0}, {1000, 2e3, 0}}, 200).ok);  // one rate above the threshold
-}
-
-TEST_CASE("shear fits: Casson recovers tau_y and eta from exact data") {
-    auto law = [](double g) { const double r = std::sqrt(30e3) + std::sqrt(0.8 * g); return r * r; };
-    const ModelFit f = fit_casson(synthetic(kRates, law));
-    REQUIRE(f.ok);
-    CHECK(f.yield_stress == rel(30e3).epsilon(1e-10));
-    CHECK(f.viscosity == rel(0.8).epsilon(1e-9));
-    CHECK(f.rms_residual < 1e-6);
-}
-
-TEST_CASE("shear fits: Herschel-Bulkley recovers tau_y, K and n from exact data") {
-    for (double n : {0.35, 0.8, 1.4}) {
-        CAPTURE(n);
-        static double nn;
-        nn = n;
-        auto law = [](double g) { return 20e3 + 150.0 * std::pow(g, nn); };
-        const ModelFit f = fit_herschel_bulkley(synthetic(kRates, law));
+    TEST_CASE("shear fits: Bingham recovers tau_y and eta from exact data, using only rates above the threshold") {
+        // Below 200 1/s the data follow another law: the fit must ignore them.
+        auto law = [](double g) { return g >= 200 ? 44.9e3 + 3.5 * g : 1e3; };
+        const auto pts = synthetic(kRates, law);
+        const ModelFit f = fit_bingham(pts, 200);
         REQUIRE(f.ok);
-        CHECK(f.flow_index == rel(n).epsilon(1e-6));
-        CHECK(f.yield_stress == rel(20e3).epsilon(1e-5));
-        CHECK(f.consistency == rel(150.0).epsilon(1e-4));
+        CHECK(f.points == 3);
+        CHECK(f.yield_stress == rel(44.9e3).epsilon(1e-12));
+        CHECK(f.viscosity == rel(3.5).epsilon(1e-10));
+        CHECK(f.yield_stress_error ==
+              doctest::Approx(0).scale(1e3).epsilon(1e-9));  // exact data: no scatter, no error bars
     }
-}
 
-TEST_CASE("block averaging: the error of independent samples matches sigma / sqrt(n)") {
-    // For iid data every block mean is independent, so the block estimate of the standard error
-    // is unbiased for sigma^2/n; with B blocks its relative spread is about 1/sqrt(2(B-1)). Averaged
-    // over 200 trials of 50 blocks, the mean estimate must lie within 3% of sigma / sqrt(n)
-    // (the standard deviation of that mean is 0.1/sqrt(200) = 0.7%, and the mean of a sqrt of an
-    // unbiased variance is low by about 1/(8(B-1)) = 0.26%).
-    std::mt19937_64 rng(7);
-    std::normal_distribution<double> normal(3.0, 2.0);
-    const std::size_t n = 5000, blocks = 50;
-    double ratio_sum = 0;
-    const int trials = 200;
-    for (int t = 0; t < trials; ++t) {
-        std::vector<double> x(n);
-        for (auto& v : x) v = normal(rng);
-        const BlockAverage b = block_average(x, blocks);
-        CHECK(b.blocks == blocks);
-        CHECK(b.samples == n);
-        ratio_sum += b.error / (2.0 / std::sqrt(static_cast<double>(n)));
+    TEST_CASE("shear fits: Bingham uncertainty propagates the points' error bars when two points fit exactly") {
+        // Two points, each +-s: intercept = (g2 y1 - g1 y2)/(g2 - g1), so its error is
+        // s sqrt(g1^2 + g2^2) / |g2 - g1|.
+        const double s = 500;
+        const std::vector<FlowPoint> pts = {{1000, 50e3, s}, {300, 46e3, s}};
+        const ModelFit f = fit_bingham(pts, 200);
+        REQUIRE(f.ok);
+        CHECK(f.yield_stress_error == rel(s * std::sqrt(1000.0 * 1000 + 300.0 * 300) / 700).epsilon(1e-12));
+        CHECK_FALSE(fit_bingham({{100, 1e3, 0}, {1000, 2e3, 0}}, 200).ok);  // one rate above the threshold
     }
-    CHECK(ratio_sum / trials == rel(1.0).epsilon(0.03));
-}
 
-TEST_CASE("block averaging: correlated data get a larger error than the naive one; leftovers drop the oldest samples") {
-    // AR(1) with phi = 0.9: the true standard error is sqrt((1+phi)/(1-phi)) = 4.36 times the naive one.
-    std::mt19937_64 rng(11);
-    std::normal_distribution<double> normal(0.0, 1.0);
-    std::vector<double> x(200000);
-    double y = 0;
-    for (auto& v : x) { y = 0.9 * y + normal(rng); v = y; }
-    const BlockAverage b = block_average(x, 20);
-    double mean = 0, var = 0;
-    for (double v : x) mean += v;
-    mean /= x.size();
-    for (double v : x) var += (v - mean) * (v - mean);
-    const double naive = std::sqrt(var / (x.size() - 1) / x.size());
-    CHECK(b.error / naive > 2.5);  // 4.36 expected, with the ~16% spread of a 20-block estimate
-    const BlockAverage odd = block_average({100.0, 1.0, 2.0, 3.0, 4.0}, 2);
-    CHECK(odd.samples == 4);
-    CHECK(odd.mean == rel(2.5));
-}
+    TEST_CASE("shear fits: Casson recovers tau_y and eta from exact data") {
+        auto law = [](double g) {
+            const double r = std::sqrt(30e3) + std::sqrt(0.8 * g);
+            return r * r;
+        };
+        const ModelFit f = fit_casson(synthetic(kRates, law));
+        REQUIRE(f.ok);
+        CHECK(f.yield_stress == rel(30e3).epsilon(1e-10));
+        CHECK(f.viscosity == rel(0.8).epsilon(1e-9));
+        CHECK(f.rms_residual < 1e-6);
+    }
+
+    TEST_CASE("shear fits: Herschel-Bulkley recovers tau_y, K and n from exact data") {
+        for (double n : {0.35, 0.8, 1.4}) {
+            CAPTURE(n);
+            static double nn;
+            nn = n;
+            auto law = [](double g) { return 20e3 + 150.0 * std::pow(g, nn); };
+            const ModelFit f = fit_herschel_bulkley(synthetic(kRates, law));
+            REQUIRE(f.ok);
+            CHECK(f.flow_index == rel(n).epsilon(1e-6));
+            CHECK(f.yield_stress == rel(20e3).epsilon(1e-5));
+            CHECK(f.consistency == rel(150.0).epsilon(1e-4));
+        }
+    }
+
+    TEST_CASE("block averaging: the error of independent samples matches sigma / sqrt(n)") {
+        // For iid data every block mean is independent, so the block estimate of the standard error
+        // is unbiased for sigma^2/n; with B blocks its relative spread is about 1/sqrt(2(B-1)). Averaged
+        // over 200 trials of 50 blocks, the mean estimate must lie within 3% of sigma / sqrt(n)
+        // (the standard deviation of that mean is 0.1/sqrt(200) = 0.7%, and the mean of a sqrt of an
+        // unbiased variance is low by about 1/(8(B-1)) = 0.26%).
+        std::mt19937_64 rng(7);
+        std::normal_distribution<double> normal(3.0, 2.0);
+        const std::size_t n = 5000, blocks = 50;
+        double ratio_sum = 0;
+        const int trials = 200;
+        for (int t = 0; t < trials; ++t) {
+            std::vector<double> x(n);
+            for (auto& v : x) v = normal(rng);
+            const BlockAverage b = block_average(x, blocks);
+            CHECK(b.blocks == blocks);
+            CHECK(b.samples == n);
+            ratio_sum += b.error / (2.0 / std::sqrt(static_cast<double>(n)));
+        }
+        CHECK(ratio_sum / trials == rel(1.0).epsilon(0.03));
+    }
+
+    TEST_CASE(
+        "block averaging: correlated data get a larger error than the naive one; leftovers drop the oldest samples") {
+        // AR(1) with phi = 0.9: the true standard error is sqrt((1+phi)/(1-phi)) = 4.36 times the naive one.
+        std::mt19937_64 rng(11);
+        std::normal_distribution<double> normal(0.0, 1.0);
+        std::vector<double> x(200000);
+        double y = 0;
+        for (auto& v : x) {
+            y = 0.9 * y + normal(rng);
+            v = y;
+        }
+        const BlockAverage b = block_average(x, 20);
+        double mean = 0, var = 0;
+        for (double v : x) mean += v;
+        mean /= x.size();
+        for (double v : x) var += (v - mean) * (v - mean);
+        const double naive = std::sqrt(var / (x.size() - 1) / x.size());
+        CHECK(b.error / naive > 2.5);  // 4.36 expected, with the ~16% spread of a 20-block estimate
+        const BlockAverage odd = block_average({100.0, 1.0, 2.0, 3.0, 4.0}, 2);
+        CHECK(odd.samples == 4);
+        CHECK(odd.mean == rel(2.5));
+    }
 
 }  // TEST_SUITE

@@ -2,10 +2,9 @@
 // volume (Trendler's 33:67), rates follow from wall speeds as 2 v / gap, and tier defaults apply.
 #include <doctest/doctest.h>
 
-#include "rel_approx.hpp"
-
 #include <cmath>
 
+#include "rel_approx.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/shear_spec.hpp"
 
@@ -24,72 +23,80 @@ json base_scene() {
 }  // namespace
 
 TEST_SUITE("unit") {
-
-TEST_CASE("shear scene: a 33:67 mixture of two number tables keeps 33% of the solid volume in the first") {
-    json s = base_scene();
-    const json small = {{"distribution", "table"}, {"basis", "number"}, {"diameters", {"1 um", "2 um"}}, {"frequencies", {0.5, 0.5}}};
-    const json large = {{"distribution", "table"}, {"basis", "number"}, {"diameters", {"5 um", "8 um", "10 um"}}, {"frequencies", {0.2, 0.5, 0.3}}};
-    s["size"] = {{"distribution", "mixture"}, {"parts", {{{"share", 33}, {"size", small}}, {{"share", 67}, {"size", large}}}}};
-    const ShearSpec spec = read_shear_spec(s, "standard");
-    const auto d = spec.size_table["diameters"].get<std::vector<double>>();
-    const auto f = spec.size_table["frequencies"].get<std::vector<double>>();
-    REQUIRE(d.size() == 5);
-    CHECK(spec.size_table["basis"] == "number");
-    double v_small = 0, v_all = 0;
-    for (std::size_t k = 0; k < d.size(); ++k) {
-        const double v = f[k] * d[k] * d[k] * d[k];
-        v_all += v;
-        if (d[k] < 3e-6) v_small += v;
-    }
-    CHECK(v_small / v_all == rel(0.33).epsilon(1e-12));
-    // Within a part, the number ratio of its classes is kept: 5 um : 8 um = 0.2 : 0.5.
-    CHECK(f[2] / f[3] == rel(0.4).epsilon(1e-12));
-    CHECK(spec.largest_diameter == rel(10e-6));
-}
-
-TEST_CASE("shear scene: wall speeds give rates 2 v / gap; the default ladder is the source's rates; tiers fill defaults") {
-    json s = base_scene();
-    s["cell"] = {{"size", {"100 um", "100 um", "100 um"}}, {"raft_thickness", "10 um"}};
-    s["ladder"] = {{"wall_speeds", {"0.04 m/s", "0.02 m/s"}}};
-    const ShearSpec a = read_shear_spec(s, "quick");
-    REQUIRE(a.rates.size() == 2);
-    CHECK(a.rates[0] == rel(2 * 0.04 / 80e-6));
-    s.erase("ladder");
-    s.erase("cell");
-    const ShearSpec b = read_shear_spec(s, "paper");
-    REQUIRE(b.rates.size() == 8);
-    CHECK(b.rates[0] == rel(2 * 0.128 / 220e-6));  // 1164 1/s
-    CHECK(b.rates[7] == rel(2 * 0.001 / 220e-6));
-    CHECK(b.cell.x == rel(shear_tier("paper").cell_size));
-    CHECK(b.strain_first == rel(shear_tier("paper").strain_first));
-    CHECK(b.resolved["ladder"]["strain_first"] == b.strain_first);  // defaults are echoed
-    CHECK_THROWS_AS(read_shear_spec(s, "fast"), SceneError);
-}
-
-// A material outside the engine's ranges is refused where it was given: a modulus of 1e-300 Pa
-// (a slip of units) at /material, and a real one scaled below the engine's floor at /scaling.
-TEST_CASE("shear scene: moduli and densities outside the ranges of solids are refused by name") {
-    auto path_of_refusal = [](const json& s) {
-        try {
-            read_shear_spec(s, "quick");
-        } catch (const SceneError& e) {
-            return e.path();
+    TEST_CASE("shear scene: a 33:67 mixture of two number tables keeps 33% of the solid volume in the first") {
+        json s = base_scene();
+        const json small = {{"distribution", "table"},
+                            {"basis", "number"},
+                            {"diameters", {"1 um", "2 um"}},
+                            {"frequencies", {0.5, 0.5}}};
+        const json large = {{"distribution", "table"},
+                            {"basis", "number"},
+                            {"diameters", {"5 um", "8 um", "10 um"}},
+                            {"frequencies", {0.2, 0.5, 0.3}}};
+        s["size"] = {{"distribution", "mixture"},
+                     {"parts", {{{"share", 33}, {"size", small}}, {{"share", 67}, {"size", large}}}}};
+        const ShearSpec spec = read_shear_spec(s, "standard");
+        const auto d = spec.size_table["diameters"].get<std::vector<double>>();
+        const auto f = spec.size_table["frequencies"].get<std::vector<double>>();
+        REQUIRE(d.size() == 5);
+        CHECK(spec.size_table["basis"] == "number");
+        double v_small = 0, v_all = 0;
+        for (std::size_t k = 0; k < d.size(); ++k) {
+            const double v = f[k] * d[k] * d[k] * d[k];
+            v_all += v;
+            if (d[k] < 3e-6) v_small += v;
         }
-        return std::string("accepted");
-    };
-    json s = base_scene();
-    CHECK(path_of_refusal(s) == "accepted");
-    s["material"]["youngs_modulus"] = 1e-300;
-    CHECK(path_of_refusal(s) == "/material/youngs_modulus");
-    s = base_scene();
-    s["material"]["density"] = 1e-300;
-    CHECK(path_of_refusal(s) == "/material/density");
-    s = base_scene();
-    s["material"]["youngs_modulus"] = "10 kPa";
-    s["scaling"] = {{"stiffness", 1e-3}};  // 10 Pa reaches the engine
-    CHECK(path_of_refusal(s) == "/scaling/stiffness");
-    s["scaling"] = {{"stiffness", 0.1}};
-    CHECK(path_of_refusal(s) == "accepted");
-}
+        CHECK(v_small / v_all == rel(0.33).epsilon(1e-12));
+        // Within a part, the number ratio of its classes is kept: 5 um : 8 um = 0.2 : 0.5.
+        CHECK(f[2] / f[3] == rel(0.4).epsilon(1e-12));
+        CHECK(spec.largest_diameter == rel(10e-6));
+    }
+
+    TEST_CASE(
+        "shear scene: wall speeds give rates 2 v / gap; the default ladder is the source's rates; tiers fill "
+        "defaults") {
+        json s = base_scene();
+        s["cell"] = {{"size", {"100 um", "100 um", "100 um"}}, {"raft_thickness", "10 um"}};
+        s["ladder"] = {{"wall_speeds", {"0.04 m/s", "0.02 m/s"}}};
+        const ShearSpec a = read_shear_spec(s, "quick");
+        REQUIRE(a.rates.size() == 2);
+        CHECK(a.rates[0] == rel(2 * 0.04 / 80e-6));
+        s.erase("ladder");
+        s.erase("cell");
+        const ShearSpec b = read_shear_spec(s, "paper");
+        REQUIRE(b.rates.size() == 8);
+        CHECK(b.rates[0] == rel(2 * 0.128 / 220e-6));  // 1164 1/s
+        CHECK(b.rates[7] == rel(2 * 0.001 / 220e-6));
+        CHECK(b.cell.x == rel(shear_tier("paper").cell_size));
+        CHECK(b.strain_first == rel(shear_tier("paper").strain_first));
+        CHECK(b.resolved["ladder"]["strain_first"] == b.strain_first);  // defaults are echoed
+        CHECK_THROWS_AS(read_shear_spec(s, "fast"), SceneError);
+    }
+
+    // A material outside the engine's ranges is refused where it was given: a modulus of 1e-300 Pa
+    // (a slip of units) at /material, and a real one scaled below the engine's floor at /scaling.
+    TEST_CASE("shear scene: moduli and densities outside the ranges of solids are refused by name") {
+        auto path_of_refusal = [](const json& s) {
+            try {
+                read_shear_spec(s, "quick");
+            } catch (const SceneError& e) {
+                return e.path();
+            }
+            return std::string("accepted");
+        };
+        json s = base_scene();
+        CHECK(path_of_refusal(s) == "accepted");
+        s["material"]["youngs_modulus"] = 1e-300;
+        CHECK(path_of_refusal(s) == "/material/youngs_modulus");
+        s = base_scene();
+        s["material"]["density"] = 1e-300;
+        CHECK(path_of_refusal(s) == "/material/density");
+        s = base_scene();
+        s["material"]["youngs_modulus"] = "10 kPa";
+        s["scaling"] = {{"stiffness", 1e-3}};  // 10 Pa reaches the engine
+        CHECK(path_of_refusal(s) == "/scaling/stiffness");
+        s["scaling"] = {{"stiffness", 0.1}};
+        CHECK(path_of_refusal(s) == "accepted");
+    }
 
 }  // TEST_SUITE

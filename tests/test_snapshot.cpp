@@ -2,8 +2,6 @@
 // written for a few particles and read back far enough to check counts and exact values.
 #include <doctest/doctest.h>
 
-#include "test_support.hpp"
-
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -19,6 +17,7 @@
 
 #include "io/lammps_data.hpp"
 #include "io/snapshot.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -32,7 +31,6 @@ using mrjam::Domain;
 using mrjam::Particles;
 using mrjam::SnapshotFormat;
 using mrjam::Vec3;
-
 
 std::vector<std::string> split_lines(const std::string& text) {
     std::vector<std::string> lines;
@@ -212,257 +210,253 @@ std::vector<T> decode_array(const XmlElement& e, std::size_t expected_count) {
 }  // namespace
 
 TEST_SUITE("unit") {
-
-TEST_CASE("snapshot format names and extensions") {
-    CHECK(mrjam::snapshot_format_from_name("vtk") == SnapshotFormat::vtk_legacy);
-    CHECK(mrjam::snapshot_format_from_name("vtp") == SnapshotFormat::vtk_xml);
-    CHECK(mrjam::snapshot_format_from_name("lammps") == SnapshotFormat::lammps_dump);
-    CHECK(mrjam::snapshot_extension(SnapshotFormat::vtk_legacy) == ".vtk");
-    CHECK(mrjam::snapshot_extension(SnapshotFormat::vtk_xml) == ".vtp");
-    CHECK(mrjam::snapshot_extension(SnapshotFormat::lammps_dump) == ".dump");
-    try {
-        mrjam::snapshot_format_from_name("xyz");
-        FAIL("expected std::invalid_argument");
-    } catch (const std::invalid_argument& e) {
-        const std::string msg = e.what();
-        CHECK(msg.find("xyz") != std::string::npos);
-        CHECK(msg.find("vtk") != std::string::npos);
-        CHECK(msg.find("vtp") != std::string::npos);
-        CHECK(msg.find("lammps") != std::string::npos);
-    }
-}
-
-TEST_CASE("LAMMPS dump round-trips every column at full precision") {
-    TempDir dir;
-    const Particles p = sample_particles();
-    const Domain d = sample_domain();
-    const std::string path = dir.file("snap.dump");
-    mrjam::write_snapshot(path, SnapshotFormat::lammps_dump, p, d, 1234, 1.234e-3);
-
-    const auto lines = split_lines(slurp(path));
-    REQUIRE(lines.size() == 9 + p.size());
-    CHECK(lines[0] == "ITEM: TIMESTEP");
-    CHECK(lines[1] == "1234");
-    CHECK(lines[2] == "ITEM: NUMBER OF ATOMS");
-    CHECK(lines[3] == std::to_string(p.size()));
-    CHECK(lines[4] == "ITEM: BOX BOUNDS pp ff pp");
-    for (int k = 0; k < 3; ++k) {
-        const auto w = words(lines[5 + k]);
-        REQUIRE(w.size() == 2);
-        CHECK(to_double(w[0]) == d.lo[k]);
-        CHECK(to_double(w[1]) == d.hi[k]);
-    }
-    CHECK(lines[8] ==
-          "ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz fx fy fz mux muy muz");
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const auto w = words(lines[9 + i]);
-        REQUIRE(w.size() == 18);
-        CHECK(std::stoull(w[0]) == p.id[i]);
-        CHECK(std::stoul(w[1]) == p.material[i] + 1u);
-        CHECK(to_double(w[2]) == p.radius[i]);
-        const Vec3* vectors[5] = {&p.position[i], &p.velocity[i], &p.angular_velocity[i], &p.force[i],
-                                  &p.dipole_moment[i]};
-        for (int v = 0; v < 5; ++v)
-            for (int k = 0; k < 3; ++k) CHECK(to_double(w[3 + 3 * v + k]) == (*vectors[v])[k]);
-    }
-}
-
-TEST_CASE("VTK legacy file is big-endian binary POLYDATA with the point arrays") {
-    TempDir dir;
-    const Particles p = sample_particles();
-    const std::size_t n = p.size();
-    const std::string path = dir.file("snap.vtk");
-    mrjam::write_snapshot(path, SnapshotFormat::vtk_legacy, p, sample_domain(), 77, 0.5);
-    const std::string bytes = slurp(path);
-
-    CHECK(bytes.rfind("# vtk DataFile Version 3.0\n", 0) == 0);
-    CHECK(bytes.find("\nBINARY\nDATASET POLYDATA\n") != std::string::npos);
-    CHECK(read_big_endian<double>(bytes, after(bytes, "TIME 1 1 double\n")) == 0.5);
-    CHECK(read_big_endian<std::int64_t>(bytes, after(bytes, "CYCLE 1 1 vtktypeint64\n")) == 77);
-
-    const std::size_t points = after(bytes, "POINTS " + std::to_string(n) + " double\n");
-    for (std::size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k)
-            CHECK(read_big_endian<double>(bytes, points + (3 * i + k) * 8) == p.position[i][k]);
-    // The first coordinate byte by byte: big-endian means the sign/exponent byte comes first.
-    const auto bits = std::bit_cast<std::uint64_t>(p.position[0].x);
-    CHECK(static_cast<unsigned char>(bytes[points]) == (bits >> 56));
-    CHECK(static_cast<unsigned char>(bytes[points + 7]) == (bits & 0xFFu));
-
-    const std::size_t verts =
-        after(bytes, "VERTICES " + std::to_string(n) + " " + std::to_string(2 * n) + "\n");
-    for (std::size_t i = 0; i < n; ++i) {
-        CHECK(read_big_endian<std::int32_t>(bytes, verts + 8 * i) == 1);
-        CHECK(read_big_endian<std::int32_t>(bytes, verts + 8 * i + 4) == static_cast<std::int32_t>(i));
+    TEST_CASE("snapshot format names and extensions") {
+        CHECK(mrjam::snapshot_format_from_name("vtk") == SnapshotFormat::vtk_legacy);
+        CHECK(mrjam::snapshot_format_from_name("vtp") == SnapshotFormat::vtk_xml);
+        CHECK(mrjam::snapshot_format_from_name("lammps") == SnapshotFormat::lammps_dump);
+        CHECK(mrjam::snapshot_extension(SnapshotFormat::vtk_legacy) == ".vtk");
+        CHECK(mrjam::snapshot_extension(SnapshotFormat::vtk_xml) == ".vtp");
+        CHECK(mrjam::snapshot_extension(SnapshotFormat::lammps_dump) == ".dump");
+        try {
+            mrjam::snapshot_format_from_name("xyz");
+            FAIL("expected std::invalid_argument");
+        } catch (const std::invalid_argument& e) {
+            const std::string msg = e.what();
+            CHECK(msg.find("xyz") != std::string::npos);
+            CHECK(msg.find("vtk") != std::string::npos);
+            CHECK(msg.find("vtp") != std::string::npos);
+            CHECK(msg.find("lammps") != std::string::npos);
+        }
     }
 
-    const std::size_t point_data = after(bytes, "POINT_DATA " + std::to_string(n) + "\n");
-    const std::string count = std::to_string(n);
-    const std::size_t radius = after(bytes, "SCALARS radius double 1\nLOOKUP_TABLE default\n", point_data);
-    const std::size_t field = after(bytes, "FIELD FieldData 5\n", point_data);
-    const std::size_t ids = after(bytes, "id 1 " + count + " vtktypeuint64\n", field);
-    const std::size_t mats = after(bytes, "material 1 " + count + " unsigned_short\n", field);
-    for (std::size_t i = 0; i < n; ++i) {
-        CHECK(read_big_endian<double>(bytes, radius + 8 * i) == p.radius[i]);
-        CHECK(read_big_endian<std::uint64_t>(bytes, ids + 8 * i) == p.id[i]);
-        CHECK(read_big_endian<std::uint16_t>(bytes, mats + 2 * i) == p.material[i]);
+    TEST_CASE("LAMMPS dump round-trips every column at full precision") {
+        TempDir dir;
+        const Particles p = sample_particles();
+        const Domain d = sample_domain();
+        const std::string path = dir.file("snap.dump");
+        mrjam::write_snapshot(path, SnapshotFormat::lammps_dump, p, d, 1234, 1.234e-3);
+
+        const auto lines = split_lines(slurp(path));
+        REQUIRE(lines.size() == 9 + p.size());
+        CHECK(lines[0] == "ITEM: TIMESTEP");
+        CHECK(lines[1] == "1234");
+        CHECK(lines[2] == "ITEM: NUMBER OF ATOMS");
+        CHECK(lines[3] == std::to_string(p.size()));
+        CHECK(lines[4] == "ITEM: BOX BOUNDS pp ff pp");
+        for (int k = 0; k < 3; ++k) {
+            const auto w = words(lines[5 + k]);
+            REQUIRE(w.size() == 2);
+            CHECK(to_double(w[0]) == d.lo[k]);
+            CHECK(to_double(w[1]) == d.hi[k]);
+        }
+        CHECK(lines[8] == "ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz fx fy fz mux muy muz");
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const auto w = words(lines[9 + i]);
+            REQUIRE(w.size() == 18);
+            CHECK(std::stoull(w[0]) == p.id[i]);
+            CHECK(std::stoul(w[1]) == p.material[i] + 1u);
+            CHECK(to_double(w[2]) == p.radius[i]);
+            const Vec3* vectors[5] = {&p.position[i], &p.velocity[i], &p.angular_velocity[i], &p.force[i],
+                                      &p.dipole_moment[i]};
+            for (int v = 0; v < 5; ++v)
+                for (int k = 0; k < 3; ++k) CHECK(to_double(w[3 + 3 * v + k]) == (*vectors[v])[k]);
+        }
     }
-    const std::pair<std::string, const std::vector<Vec3>*> vectors[] = {
-        {"VECTORS velocity double\n", &p.velocity},
-        {"angular_velocity 3 " + count + " double\n", &p.angular_velocity},
-        {"force 3 " + count + " double\n", &p.force},
-        {"dipole_moment 3 " + count + " double\n", &p.dipole_moment}};
-    for (const auto& [header, values] : vectors) {
-        const std::size_t at = after(bytes, header, point_data);
+
+    TEST_CASE("VTK legacy file is big-endian binary POLYDATA with the point arrays") {
+        TempDir dir;
+        const Particles p = sample_particles();
+        const std::size_t n = p.size();
+        const std::string path = dir.file("snap.vtk");
+        mrjam::write_snapshot(path, SnapshotFormat::vtk_legacy, p, sample_domain(), 77, 0.5);
+        const std::string bytes = slurp(path);
+
+        CHECK(bytes.rfind("# vtk DataFile Version 3.0\n", 0) == 0);
+        CHECK(bytes.find("\nBINARY\nDATASET POLYDATA\n") != std::string::npos);
+        CHECK(read_big_endian<double>(bytes, after(bytes, "TIME 1 1 double\n")) == 0.5);
+        CHECK(read_big_endian<std::int64_t>(bytes, after(bytes, "CYCLE 1 1 vtktypeint64\n")) == 77);
+
+        const std::size_t points = after(bytes, "POINTS " + std::to_string(n) + " double\n");
         for (std::size_t i = 0; i < n; ++i)
             for (int k = 0; k < 3; ++k)
-                CHECK(read_big_endian<double>(bytes, at + (3 * i + k) * 8) == (*values)[i][k]);
+                CHECK(read_big_endian<double>(bytes, points + (3 * i + k) * 8) == p.position[i][k]);
+        // The first coordinate byte by byte: big-endian means the sign/exponent byte comes first.
+        const auto bits = std::bit_cast<std::uint64_t>(p.position[0].x);
+        CHECK(static_cast<unsigned char>(bytes[points]) == (bits >> 56));
+        CHECK(static_cast<unsigned char>(bytes[points + 7]) == (bits & 0xFFu));
+
+        const std::size_t verts = after(bytes, "VERTICES " + std::to_string(n) + " " + std::to_string(2 * n) + "\n");
+        for (std::size_t i = 0; i < n; ++i) {
+            CHECK(read_big_endian<std::int32_t>(bytes, verts + 8 * i) == 1);
+            CHECK(read_big_endian<std::int32_t>(bytes, verts + 8 * i + 4) == static_cast<std::int32_t>(i));
+        }
+
+        const std::size_t point_data = after(bytes, "POINT_DATA " + std::to_string(n) + "\n");
+        const std::string count = std::to_string(n);
+        const std::size_t radius = after(bytes, "SCALARS radius double 1\nLOOKUP_TABLE default\n", point_data);
+        const std::size_t field = after(bytes, "FIELD FieldData 5\n", point_data);
+        const std::size_t ids = after(bytes, "id 1 " + count + " vtktypeuint64\n", field);
+        const std::size_t mats = after(bytes, "material 1 " + count + " unsigned_short\n", field);
+        for (std::size_t i = 0; i < n; ++i) {
+            CHECK(read_big_endian<double>(bytes, radius + 8 * i) == p.radius[i]);
+            CHECK(read_big_endian<std::uint64_t>(bytes, ids + 8 * i) == p.id[i]);
+            CHECK(read_big_endian<std::uint16_t>(bytes, mats + 2 * i) == p.material[i]);
+        }
+        const std::pair<std::string, const std::vector<Vec3>*> vectors[] = {
+            {"VECTORS velocity double\n", &p.velocity},
+            {"angular_velocity 3 " + count + " double\n", &p.angular_velocity},
+            {"force 3 " + count + " double\n", &p.force},
+            {"dipole_moment 3 " + count + " double\n", &p.dipole_moment}};
+        for (const auto& [header, values] : vectors) {
+            const std::size_t at = after(bytes, header, point_data);
+            for (std::size_t i = 0; i < n; ++i)
+                for (int k = 0; k < 3; ++k)
+                    CHECK(read_big_endian<double>(bytes, at + (3 * i + k) * 8) == (*values)[i][k]);
+        }
+        // Last array ends the file: its payload plus the closing newline.
+        const std::size_t last = after(bytes, "dipole_moment 3 " + count + " double\n", field);
+        CHECK(bytes.size() == last + n * 24 + 1);
     }
-    // Last array ends the file: its payload plus the closing newline.
-    const std::size_t last = after(bytes, "dipole_moment 3 " + count + " double\n", field);
-    CHECK(bytes.size() == last + n * 24 + 1);
-}
 
-TEST_CASE("VTK XML PolyData is well formed and carries the arrays") {
-    TempDir dir;
-    const Particles p = sample_particles();
-    const std::size_t n = p.size();
-    const std::string path = dir.file("snap.vtp");
-    mrjam::write_snapshot(path, SnapshotFormat::vtk_xml, p, sample_domain(), 5, 2.5e-6);
-    const auto xml = parse_xml(slurp(path));
+    TEST_CASE("VTK XML PolyData is well formed and carries the arrays") {
+        TempDir dir;
+        const Particles p = sample_particles();
+        const std::size_t n = p.size();
+        const std::string path = dir.file("snap.vtp");
+        mrjam::write_snapshot(path, SnapshotFormat::vtk_xml, p, sample_domain(), 5, 2.5e-6);
+        const auto xml = parse_xml(slurp(path));
 
-    REQUIRE(!xml.empty());
-    CHECK(xml[0].name == "VTKFile");
-    CHECK(xml[0].attributes.at("type") == "PolyData");
-    CHECK(xml[0].attributes.at("header_type") == "UInt64");
-    CHECK(xml[0].attributes.at("byte_order") == "LittleEndian");
-    std::size_t pieces = 0;
-    for (const auto& e : xml) {
-        if (e.name != "Piece") continue;
-        ++pieces;
-        CHECK(e.attributes.at("NumberOfPoints") == std::to_string(n));
-        CHECK(e.attributes.at("NumberOfVerts") == std::to_string(n));
+        REQUIRE(!xml.empty());
+        CHECK(xml[0].name == "VTKFile");
+        CHECK(xml[0].attributes.at("type") == "PolyData");
+        CHECK(xml[0].attributes.at("header_type") == "UInt64");
+        CHECK(xml[0].attributes.at("byte_order") == "LittleEndian");
+        std::size_t pieces = 0;
+        for (const auto& e : xml) {
+            if (e.name != "Piece") continue;
+            ++pieces;
+            CHECK(e.attributes.at("NumberOfPoints") == std::to_string(n));
+            CHECK(e.attributes.at("NumberOfVerts") == std::to_string(n));
+        }
+        CHECK(pieces == 1);
+
+        CHECK(to_double(find_array(xml, "TIME").text) == 2.5e-6);
+        CHECK(find_array(xml, "CYCLE").text == "5");
+
+        const auto positions = decode_array<double>(find_array(xml, "Points"), 3 * n);
+        const auto radius = decode_array<double>(find_array(xml, "radius"), n);
+        const auto ids = decode_array<std::uint64_t>(find_array(xml, "id"), n);
+        const auto mats = decode_array<std::uint16_t>(find_array(xml, "material"), n);
+        const auto conn = decode_array<std::int64_t>(find_array(xml, "connectivity"), n);
+        const auto offs = decode_array<std::int64_t>(find_array(xml, "offsets"), n);
+        for (std::size_t i = 0; i < n; ++i) {
+            for (int k = 0; k < 3; ++k) CHECK(positions[3 * i + k] == p.position[i][k]);
+            CHECK(radius[i] == p.radius[i]);
+            CHECK(ids[i] == p.id[i]);
+            CHECK(mats[i] == p.material[i]);
+            CHECK(conn[i] == static_cast<std::int64_t>(i));
+            CHECK(offs[i] == static_cast<std::int64_t>(i + 1));
+        }
+        const std::pair<const char*, const std::vector<Vec3>*> vectors[] = {{"velocity", &p.velocity},
+                                                                            {"angular_velocity", &p.angular_velocity},
+                                                                            {"force", &p.force},
+                                                                            {"dipole_moment", &p.dipole_moment}};
+        for (const auto& [name, field] : vectors) {
+            const auto& e = find_array(xml, name);
+            CHECK(e.attributes.at("NumberOfComponents") == "3");
+            const auto v = decode_array<double>(e, 3 * n);
+            for (std::size_t i = 0; i < n; ++i)
+                for (int k = 0; k < 3; ++k) CHECK(v[3 * i + k] == (*field)[i][k]);
+        }
     }
-    CHECK(pieces == 1);
 
-    CHECK(to_double(find_array(xml, "TIME").text) == 2.5e-6);
-    CHECK(find_array(xml, "CYCLE").text == "5");
-
-    const auto positions = decode_array<double>(find_array(xml, "Points"), 3 * n);
-    const auto radius = decode_array<double>(find_array(xml, "radius"), n);
-    const auto ids = decode_array<std::uint64_t>(find_array(xml, "id"), n);
-    const auto mats = decode_array<std::uint16_t>(find_array(xml, "material"), n);
-    const auto conn = decode_array<std::int64_t>(find_array(xml, "connectivity"), n);
-    const auto offs = decode_array<std::int64_t>(find_array(xml, "offsets"), n);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) CHECK(positions[3 * i + k] == p.position[i][k]);
-        CHECK(radius[i] == p.radius[i]);
-        CHECK(ids[i] == p.id[i]);
-        CHECK(mats[i] == p.material[i]);
-        CHECK(conn[i] == static_cast<std::int64_t>(i));
-        CHECK(offs[i] == static_cast<std::int64_t>(i + 1));
+    TEST_CASE("snapshots of an empty particle set are still valid files") {
+        TempDir dir;
+        const Particles none;
+        for (auto format : {SnapshotFormat::vtk_legacy, SnapshotFormat::vtk_xml, SnapshotFormat::lammps_dump}) {
+            const std::string path = dir.file("empty" + mrjam::snapshot_extension(format));
+            mrjam::write_snapshot(path, format, none, sample_domain(), 0, 0.0);
+            CHECK(fs::file_size(path) > 0);
+        }
+        CHECK(split_lines(slurp(dir.file("empty.dump"))).size() == 9);
+        const auto xml = parse_xml(slurp(dir.file("empty.vtp")));
+        for (const auto& e : xml)
+            if (e.name == "Piece") CHECK(e.attributes.at("NumberOfPoints") == "0");
     }
-    const std::pair<const char*, const std::vector<Vec3>*> vectors[] = {
-        {"velocity", &p.velocity},
-        {"angular_velocity", &p.angular_velocity},
-        {"force", &p.force},
-        {"dipole_moment", &p.dipole_moment}};
-    for (const auto& [name, field] : vectors) {
-        const auto& e = find_array(xml, name);
-        CHECK(e.attributes.at("NumberOfComponents") == "3");
-        const auto v = decode_array<double>(e, 3 * n);
-        for (std::size_t i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k) CHECK(v[3 * i + k] == (*field)[i][k]);
-    }
-}
 
-TEST_CASE("snapshots of an empty particle set are still valid files") {
-    TempDir dir;
-    const Particles none;
-    for (auto format : {SnapshotFormat::vtk_legacy, SnapshotFormat::vtk_xml, SnapshotFormat::lammps_dump}) {
-        const std::string path = dir.file("empty" + mrjam::snapshot_extension(format));
-        mrjam::write_snapshot(path, format, none, sample_domain(), 0, 0.0);
-        CHECK(fs::file_size(path) > 0);
-    }
-    CHECK(split_lines(slurp(dir.file("empty.dump"))).size() == 9);
-    const auto xml = parse_xml(slurp(dir.file("empty.vtp")));
-    for (const auto& e : xml)
-        if (e.name == "Piece") CHECK(e.attributes.at("NumberOfPoints") == "0");
-}
-
-TEST_CASE("writers name the path when the file cannot be opened") {
-    TempDir dir;
-    const std::string path = dir.file("no_such_dir/snap.vtk");
-    for (auto format : {SnapshotFormat::vtk_legacy, SnapshotFormat::vtk_xml, SnapshotFormat::lammps_dump}) {
+    TEST_CASE("writers name the path when the file cannot be opened") {
+        TempDir dir;
+        const std::string path = dir.file("no_such_dir/snap.vtk");
+        for (auto format : {SnapshotFormat::vtk_legacy, SnapshotFormat::vtk_xml, SnapshotFormat::lammps_dump}) {
+            try {
+                mrjam::write_snapshot(path, format, sample_particles(), sample_domain(), 0, 0.0);
+                FAIL("expected std::runtime_error");
+            } catch (const std::runtime_error& e) {
+                CHECK(std::string(e.what()).find(path) != std::string::npos);
+            }
+        }
         try {
-            mrjam::write_snapshot(path, format, sample_particles(), sample_domain(), 0, 0.0);
+            mrjam::write_lammps_data(path, sample_particles(), sample_domain(), {2500.0, 2500.0, 2500.0});
             FAIL("expected std::runtime_error");
         } catch (const std::runtime_error& e) {
             CHECK(std::string(e.what()).find(path) != std::string::npos);
         }
     }
-    try {
-        mrjam::write_lammps_data(path, sample_particles(), sample_domain(), {2500.0, 2500.0, 2500.0});
-        FAIL("expected std::runtime_error");
-    } catch (const std::runtime_error& e) {
-        CHECK(std::string(e.what()).find(path) != std::string::npos);
-    }
-}
 
-TEST_CASE("LAMMPS data file for atom_style granular") {
-    TempDir dir;
-    const Particles p = sample_particles();
-    const Domain d = sample_domain();
-    const std::vector<double> density = {2500.0, 7874.0, 1000.0 / 3.0};
-    const std::string path = dir.file("state.data");
-    mrjam::write_lammps_data(path, p, d, density);
-    const auto lines = split_lines(slurp(path));
+    TEST_CASE("LAMMPS data file for atom_style granular") {
+        TempDir dir;
+        const Particles p = sample_particles();
+        const Domain d = sample_domain();
+        const std::vector<double> density = {2500.0, 7874.0, 1000.0 / 3.0};
+        const std::string path = dir.file("state.data");
+        mrjam::write_lammps_data(path, p, d, density);
+        const auto lines = split_lines(slurp(path));
 
-    std::size_t atoms = 0, types = 0;
-    int bounds = 0;
-    std::size_t atoms_at = 0, velocities_at = 0;
-    for (std::size_t l = 1; l < lines.size(); ++l) {  // line 0 is the free-form title
-        const auto w = words(lines[l]);
-        if (w.size() == 2 && w[1] == "atoms") atoms = std::stoul(w[0]);
-        if (w.size() == 3 && w[1] == "atom" && w[2] == "types") types = std::stoul(w[0]);
-        if (w.size() == 4 && w[2] == std::string(1, "xyz"[bounds]) + "lo") {
-            CHECK(w[3] == std::string(1, "xyz"[bounds]) + "hi");
-            CHECK(to_double(w[0]) == d.lo[bounds]);
-            CHECK(to_double(w[1]) == d.hi[bounds]);
-            ++bounds;
+        std::size_t atoms = 0, types = 0;
+        int bounds = 0;
+        std::size_t atoms_at = 0, velocities_at = 0;
+        for (std::size_t l = 1; l < lines.size(); ++l) {  // line 0 is the free-form title
+            const auto w = words(lines[l]);
+            if (w.size() == 2 && w[1] == "atoms") atoms = std::stoul(w[0]);
+            if (w.size() == 3 && w[1] == "atom" && w[2] == "types") types = std::stoul(w[0]);
+            if (w.size() == 4 && w[2] == std::string(1, "xyz"[bounds]) + "lo") {
+                CHECK(w[3] == std::string(1, "xyz"[bounds]) + "hi");
+                CHECK(to_double(w[0]) == d.lo[bounds]);
+                CHECK(to_double(w[1]) == d.hi[bounds]);
+                ++bounds;
+            }
+            if (lines[l] == "Atoms") atoms_at = l;
+            if (lines[l] == "Velocities") velocities_at = l;
         }
-        if (lines[l] == "Atoms") atoms_at = l;
-        if (lines[l] == "Velocities") velocities_at = l;
-    }
-    CHECK(atoms == p.size());
-    CHECK(types == density.size());
-    CHECK(bounds == 3);
-    REQUIRE(atoms_at > 0);
-    REQUIRE(velocities_at > atoms_at);
+        CHECK(atoms == p.size());
+        CHECK(types == density.size());
+        CHECK(bounds == 3);
+        REQUIRE(atoms_at > 0);
+        REQUIRE(velocities_at > atoms_at);
 
-    // Sections: keyword, blank line, one line per atom.
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const auto a = words(lines[atoms_at + 2 + i]);
-        REQUIRE(a.size() == 7);
-        CHECK(std::stoull(a[0]) == p.id[i] + 1);
-        CHECK(std::stoul(a[1]) == p.material[i] + 1u);
-        CHECK(to_double(a[2]) == 2.0 * p.radius[i]);
-        CHECK(to_double(a[3]) == density[p.material[i]]);
-        for (int k = 0; k < 3; ++k) CHECK(to_double(a[4 + k]) == p.position[i][k]);
+        // Sections: keyword, blank line, one line per atom.
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const auto a = words(lines[atoms_at + 2 + i]);
+            REQUIRE(a.size() == 7);
+            CHECK(std::stoull(a[0]) == p.id[i] + 1);
+            CHECK(std::stoul(a[1]) == p.material[i] + 1u);
+            CHECK(to_double(a[2]) == 2.0 * p.radius[i]);
+            CHECK(to_double(a[3]) == density[p.material[i]]);
+            for (int k = 0; k < 3; ++k) CHECK(to_double(a[4 + k]) == p.position[i][k]);
 
-        const auto v = words(lines[velocities_at + 2 + i]);
-        REQUIRE(v.size() == 7);
-        CHECK(std::stoull(v[0]) == p.id[i] + 1);
-        for (int k = 0; k < 3; ++k) {
-            CHECK(to_double(v[1 + k]) == p.velocity[i][k]);
-            CHECK(to_double(v[4 + k]) == p.angular_velocity[i][k]);
+            const auto v = words(lines[velocities_at + 2 + i]);
+            REQUIRE(v.size() == 7);
+            CHECK(std::stoull(v[0]) == p.id[i] + 1);
+            for (int k = 0; k < 3; ++k) {
+                CHECK(to_double(v[1 + k]) == p.velocity[i][k]);
+                CHECK(to_double(v[4 + k]) == p.angular_velocity[i][k]);
+            }
         }
-    }
-    CHECK(lines.size() == velocities_at + 2 + p.size());
+        CHECK(lines.size() == velocities_at + 2 + p.size());
 
-    CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {2500.0}), std::invalid_argument);
-    CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {}), std::invalid_argument);
-    CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {2500.0, 0.0, 1.0}), std::invalid_argument);
-}
+        CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {2500.0}), std::invalid_argument);
+        CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {}), std::invalid_argument);
+        CHECK_THROWS_AS(mrjam::write_lammps_data(path, p, d, {2500.0, 0.0, 1.0}), std::invalid_argument);
+    }
 
 }  // TEST_SUITE("unit")

@@ -2,25 +2,22 @@
 // Test helpers shared by the suites: a scratch directory removed at scope exit, reading and
 // writing whole files, and running the mrjam executable with its output captured.
 #include <doctest/doctest.h>
-
-#include "rel_approx.hpp"
-
 #include <sys/wait.h>
 
 #include <atomic>
 #include <cstdint>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "rel_approx.hpp"
 
 namespace mrjam_test {
-
 
 struct TempDir {
     std::filesystem::path path;
@@ -90,8 +87,8 @@ inline Result mrjam(const TempDir& dir, const std::string& args, const std::stri
 }
 
 // Writes `scene` as NAME.json and runs `mrjam MODE NAME.json --report NAME_report.json --quiet EXTRA`.
-inline Result run_mode(const TempDir& dir, const std::string& mode, const std::string& name, const nlohmann::json& scene,
-                       const std::string& extra = "") {
+inline Result run_mode(const TempDir& dir, const std::string& mode, const std::string& name,
+                       const nlohmann::json& scene, const std::string& extra = "") {
     write_text(dir.file(name + ".json"), scene.dump(2));
     return mrjam(dir, mode + " " + quote(dir.file(name + ".json")) + " --report " +
                           quote(dir.file(name + "_report.json")) + " --quiet " + extra);

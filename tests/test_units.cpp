@@ -2,10 +2,9 @@
 // the right SI value and dimension, and wrong or unknown units are refused with UnitError.
 #include <doctest/doctest.h>
 
-#include "rel_approx.hpp"
-
 #include <string>
 
+#include "rel_approx.hpp"
 #include "scene/units.hpp"
 
 using mrjam_test::rel;
@@ -27,84 +26,83 @@ void check(const std::string& text, const Dimension& dim, double si) {
 }  // namespace
 
 TEST_SUITE("unit") {
-
-TEST_CASE("units: the quantities of the scene format parse to SI") {
-    check("6.7 um", units::length, 6.7e-6);
-    check("600 mT", units::magnetic_flux_density, 0.6);
-    check("10 mPa s", units::viscosity, 0.01);
-    check("60 kJ/m3", units::pressure, 6e4);
-    check("105 kPa", units::pressure, 1.05e5);
-    check("1 GPa", units::pressure, 1e9);
-    check("7800 kg/m3", units::density, 7800);
-    check("9.81 m/s2", units::acceleration, 9.81);
-    check("100 1/s", units::frequency, 100);
-    check("0.2 ns", units::time, 2e-10);
-}
-
-TEST_CASE("units: spellings of the same quantity agree") {
-    check("6.7um", units::length, 6.7e-6);              // no space
-    check("6.7 \u00b5m", units::length, 6.7e-6);        // micro sign
-    check("6.7 \u03bcm", units::length, 6.7e-6);        // Greek mu
-    check("10 mPa*s", units::viscosity, 0.01);
-    check("10 mPa.s", units::viscosity, 0.01);
-    check("10 cP", units::viscosity, 0.01);             // centipoise
-    check("9.81 m s^-2", units::acceleration, 9.81);
-    check("9.81 m s-2", units::acceleration, 9.81);
-    check("9.81 m/s^2", units::acceleration, 9.81);
-    check("100 Hz", units::frequency, 100);
-    check("100 s-1", units::frequency, 100);
-    check("7.8 g/cm3", units::density, 7800);
-    check("1e-3 m", units::length, 1e-3);
-    check("-2.5 mm", units::length, -2.5e-3);
-    check("1 bar", units::pressure, 1e5);
-    check("2 min", units::time, 120);
-    check("50 %", units::dimensionless, 0.5);
-    check("3", units::dimensionless, 3);
-    check("0.05 J/m2", units::surface_energy, 0.05);
-    check("1000 N/m", units::stiffness, 1000);
-}
-
-TEST_CASE("units: a dimension mismatch throws UnitError naming both dimensions") {
-    CHECK_THROWS_AS(units::parse_as("6.7 um", units::pressure), units::UnitError);
-    CHECK_THROWS_AS(units::parse_as("1 GPa", units::length), units::UnitError);
-    CHECK_THROWS_AS(units::parse_as("10 mPa", units::viscosity), units::UnitError);  // missing the s
-    CHECK_THROWS_AS(units::parse_as("9.81 m/s", units::acceleration), units::UnitError);
-    CHECK_THROWS_AS(units::parse_as("5 m", units::dimensionless), units::UnitError);
-    try {
-        units::parse_as("7800 kg/m2", units::density);
-        FAIL("expected UnitError");
-    } catch (const units::UnitError& e) {
-        const std::string msg = e.what();
-        CHECK(msg.find("7800 kg/m2") != std::string::npos);
-        CHECK(msg.find(units::describe(units::density)) != std::string::npos);
+    TEST_CASE("units: the quantities of the scene format parse to SI") {
+        check("6.7 um", units::length, 6.7e-6);
+        check("600 mT", units::magnetic_flux_density, 0.6);
+        check("10 mPa s", units::viscosity, 0.01);
+        check("60 kJ/m3", units::pressure, 6e4);
+        check("105 kPa", units::pressure, 1.05e5);
+        check("1 GPa", units::pressure, 1e9);
+        check("7800 kg/m3", units::density, 7800);
+        check("9.81 m/s2", units::acceleration, 9.81);
+        check("100 1/s", units::frequency, 100);
+        check("0.2 ns", units::time, 2e-10);
     }
-}
 
-TEST_CASE("units: unknown units and malformed strings throw UnitError") {
-    CHECK_THROWS_AS(units::parse("6.7 parsecs"), units::UnitError);
-    CHECK_THROWS_AS(units::parse_as("6.7 parsecs", units::length), units::UnitError);
-    CHECK_THROWS_AS(units::parse("6.7 furlongs"), units::UnitError);
-    CHECK_THROWS_AS(units::parse("um"), units::UnitError);           // no number
-    CHECK_THROWS_AS(units::parse(""), units::UnitError);
-    CHECK_THROWS_AS(units::parse("5 m/s/s"), units::UnitError);      // two slashes
-    CHECK_THROWS_AS(units::parse("5 m^0"), units::UnitError);        // zero power
-    CHECK_THROWS_AS(units::parse("5 m^x"), units::UnitError);
-    CHECK_THROWS_AS(units::parse("inf m"), units::UnitError);
-    CHECK_THROWS_AS(units::parse("nan Pa"), units::UnitError);
-    CHECK_THROWS_AS(units::parse("1 kkg"), units::UnitError);        // prefix on kg
-    CHECK_THROWS_AS(units::parse("1 mG"), units::UnitError);         // gauss takes no prefix
-    try {
-        units::parse("6.7 parsecs");
-        FAIL("expected UnitError");
-    } catch (const units::UnitError& e) {
-        CHECK(std::string(e.what()).find("parsecs") != std::string::npos);
+    TEST_CASE("units: spellings of the same quantity agree") {
+        check("6.7um", units::length, 6.7e-6);        // no space
+        check("6.7 \u00b5m", units::length, 6.7e-6);  // micro sign
+        check("6.7 \u03bcm", units::length, 6.7e-6);  // Greek mu
+        check("10 mPa*s", units::viscosity, 0.01);
+        check("10 mPa.s", units::viscosity, 0.01);
+        check("10 cP", units::viscosity, 0.01);  // centipoise
+        check("9.81 m s^-2", units::acceleration, 9.81);
+        check("9.81 m s-2", units::acceleration, 9.81);
+        check("9.81 m/s^2", units::acceleration, 9.81);
+        check("100 Hz", units::frequency, 100);
+        check("100 s-1", units::frequency, 100);
+        check("7.8 g/cm3", units::density, 7800);
+        check("1e-3 m", units::length, 1e-3);
+        check("-2.5 mm", units::length, -2.5e-3);
+        check("1 bar", units::pressure, 1e5);
+        check("2 min", units::time, 120);
+        check("50 %", units::dimensionless, 0.5);
+        check("3", units::dimensionless, 3);
+        check("0.05 J/m2", units::surface_energy, 0.05);
+        check("1000 N/m", units::stiffness, 1000);
     }
-}
 
-TEST_CASE("units: describe names the base units") {
-    CHECK(units::describe(units::length) == "m");
-    CHECK(units::describe(units::dimensionless) == "dimensionless");
-    CHECK(units::describe(units::pressure) == "m^-1 kg s^-2");
-}
+    TEST_CASE("units: a dimension mismatch throws UnitError naming both dimensions") {
+        CHECK_THROWS_AS(units::parse_as("6.7 um", units::pressure), units::UnitError);
+        CHECK_THROWS_AS(units::parse_as("1 GPa", units::length), units::UnitError);
+        CHECK_THROWS_AS(units::parse_as("10 mPa", units::viscosity), units::UnitError);  // missing the s
+        CHECK_THROWS_AS(units::parse_as("9.81 m/s", units::acceleration), units::UnitError);
+        CHECK_THROWS_AS(units::parse_as("5 m", units::dimensionless), units::UnitError);
+        try {
+            units::parse_as("7800 kg/m2", units::density);
+            FAIL("expected UnitError");
+        } catch (const units::UnitError& e) {
+            const std::string msg = e.what();
+            CHECK(msg.find("7800 kg/m2") != std::string::npos);
+            CHECK(msg.find(units::describe(units::density)) != std::string::npos);
+        }
+    }
+
+    TEST_CASE("units: unknown units and malformed strings throw UnitError") {
+        CHECK_THROWS_AS(units::parse("6.7 parsecs"), units::UnitError);
+        CHECK_THROWS_AS(units::parse_as("6.7 parsecs", units::length), units::UnitError);
+        CHECK_THROWS_AS(units::parse("6.7 furlongs"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("um"), units::UnitError);  // no number
+        CHECK_THROWS_AS(units::parse(""), units::UnitError);
+        CHECK_THROWS_AS(units::parse("5 m/s/s"), units::UnitError);  // two slashes
+        CHECK_THROWS_AS(units::parse("5 m^0"), units::UnitError);    // zero power
+        CHECK_THROWS_AS(units::parse("5 m^x"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("inf m"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("nan Pa"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("1 kkg"), units::UnitError);  // prefix on kg
+        CHECK_THROWS_AS(units::parse("1 mG"), units::UnitError);   // gauss takes no prefix
+        try {
+            units::parse("6.7 parsecs");
+            FAIL("expected UnitError");
+        } catch (const units::UnitError& e) {
+            CHECK(std::string(e.what()).find("parsecs") != std::string::npos);
+        }
+    }
+
+    TEST_CASE("units: describe names the base units") {
+        CHECK(units::describe(units::length) == "m");
+        CHECK(units::describe(units::dimensionless) == "dimensionless");
+        CHECK(units::describe(units::pressure) == "m^-1 kg s^-2");
+    }
 
 }  // TEST_SUITE

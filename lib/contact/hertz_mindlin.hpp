@@ -27,15 +27,15 @@ struct ContactHistory {
 
 // Kinematics of one contact, prepared by the caller.
 struct ContactInput {
-    Vec3 normal;             // unit vector from j to i
-    double overlap;          // d = R_i + R_j - |x_i - x_j| > 0
-    double distance;         // |x_i - x_j|; for a wall, R_i - d
-    double radius_i, radius_j;   // radius_j unused for a wall
-    double reduced_radius;   // R* (R_i for a wall)
-    double reduced_mass;     // m* (m_i for a wall)
-    double rolling_inertia;  // EPSD I_r (Ai et al. eq. 16)
-    Vec3 contact_velocity;   // velocity of i relative to j at the contact point
-    Vec3 relative_spin;      // omega_i - omega_j
+    Vec3 normal;                // unit vector from j to i
+    double overlap;             // d = R_i + R_j - |x_i - x_j| > 0
+    double distance;            // |x_i - x_j|; for a wall, R_i - d
+    double radius_i, radius_j;  // radius_j unused for a wall
+    double reduced_radius;      // R* (R_i for a wall)
+    double reduced_mass;        // m* (m_i for a wall)
+    double rolling_inertia;     // EPSD I_r (Ai et al. eq. 16)
+    Vec3 contact_velocity;      // velocity of i relative to j at the contact point
+    Vec3 relative_spin;         // omega_i - omega_j
     bool wall;
 };
 
@@ -61,10 +61,10 @@ inline ContactInput grain_pair_input(const Vec3& d, double r2, double ri, double
 }
 
 struct ContactOutput {
-    Vec3 force_on_i;     // force on j is the opposite
+    Vec3 force_on_i;  // force on j is the opposite
     Vec3 torque_on_i;
     Vec3 torque_on_j;
-    double normal_force; // elastic plus damping, positive when repulsive (without cohesion)
+    double normal_force;  // elastic plus damping, positive when repulsive (without cohesion)
 };
 
 // Rotates a history vector into the current tangent plane, keeping its length, so a contact
@@ -78,8 +78,8 @@ inline void project_to_tangent_plane(Vec3& h, const Vec3& n) {
 }
 
 template <RollingModel Rolling, CohesionModel Cohesion>
-inline void hertz_mindlin(const PairCoefficients& c, const ContactInput& in, ContactHistory& history,
-                          double dt, ContactOutput& out) {
+inline void hertz_mindlin(const PairCoefficients& c, const ContactInput& in, ContactHistory& history, double dt,
+                          ContactOutput& out) {
     constexpr double damping_factor = 1.8257418583505538;  // 2 sqrt(5/6)
     const Vec3& n = in.normal;
     const double contact_radius_sq = in.reduced_radius * in.overlap;  // a^2 of Hertz
@@ -160,7 +160,8 @@ inline void hertz_mindlin(const PairCoefficients& c, const ContactInput& in, Con
         const double fr_mag2 = norm2(fr);
         if (fr_mag2 > fr_max * fr_max) {
             fr *= fr_max / std::sqrt(fr_mag2);
-            history.rolling = c.rolling_stiffness > 0 ? -(fr + v_roll * c.rolling_viscous) / c.rolling_stiffness : Vec3{};
+            history.rolling =
+                c.rolling_stiffness > 0 ? -(fr + v_roll * c.rolling_viscous) / c.rolling_stiffness : Vec3{};
         }
         const Vec3 torque = cross(n, fr) * in.reduced_radius;
         out.torque_on_i += torque;

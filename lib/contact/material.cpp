@@ -27,8 +27,7 @@ PairCoefficients PairTable::combine(const Material& a, const Material& b) {
     return c;
 }
 
-PairTable::PairTable(const std::vector<Material>& materials)
-    : n_(materials.size()), table_(n_ * n_) {
+PairTable::PairTable(const std::vector<Material>& materials) : n_(materials.size()), table_(n_ * n_) {
     for (std::size_t a = 0; a < n_; ++a)
         for (std::size_t b = 0; b < n_; ++b) table_[a * n_ + b] = combine(materials[a], materials[b]);
 }

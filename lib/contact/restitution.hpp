@@ -11,7 +11,6 @@ double damping_beta_for_restitution(double e);
 
 // Duration of an undamped Hertz collision (Johnson, Contact Mechanics, eq. 11.24):
 // 2.9433 (15 m* / (16 sqrt(R*) Y*))^(2/5) v^(-1/5).
-double hertz_contact_duration(double reduced_mass, double reduced_radius, double effective_youngs,
-                              double impact_speed);
+double hertz_contact_duration(double reduced_mass, double reduced_radius, double effective_youngs, double impact_speed);
 
 }  // namespace mrjam

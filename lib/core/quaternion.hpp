@@ -27,7 +27,10 @@ struct Quaternion {
         *this = Quaternion{r.w * w - r.x * x - r.y * y - r.z * z, r.w * x + r.x * w + r.y * z - r.z * y,
                            r.w * y - r.x * z + r.y * w + r.z * x, r.w * z + r.x * y - r.y * x + r.z * w};
         const double n = std::sqrt(w * w + x * x + y * y + z * z);  // rounding only
-        w /= n; x /= n; y /= n; z /= n;
+        w /= n;
+        x /= n;
+        y /= n;
+        z /= n;
     }
 };
 

@@ -18,7 +18,10 @@ public:
 
     // Standard normal by Box-Muller (both deviates used).
     double normal() {
-        if (have_spare_) { have_spare_ = false; return spare_; }
+        if (have_spare_) {
+            have_spare_ = false;
+            return spare_;
+        }
         double u1 = uniform();
         while (u1 <= 0.0) u1 = uniform();
         const double u2 = uniform();

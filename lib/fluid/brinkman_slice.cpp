@@ -35,7 +35,8 @@ std::vector<double> brinkman_profile(const BrinkmanRings& rings, double pressure
 double ring_flow_rate(const std::vector<double>& u, double radius) {
     const double dr = radius / static_cast<double>(u.size());
     double q = 0;
-    for (std::size_t j = 0; j < u.size(); ++j) q += 2.0 * std::numbers::pi * (static_cast<double>(j) + 0.5) * dr * dr * u[j];
+    for (std::size_t j = 0; j < u.size(); ++j)
+        q += 2.0 * std::numbers::pi * (static_cast<double>(j) + 0.5) * dr * dr * u[j];
     return q;
 }
 

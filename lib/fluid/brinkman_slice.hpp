@@ -15,9 +15,9 @@
 namespace mrjam {
 
 struct BrinkmanRings {
-    double radius = 0;          // R, m
-    double viscosity = 0;       // mu, Pa s
-    std::vector<double> beta;   // per ring, Pa s / m^2 (0: clear fluid)
+    double radius = 0;                // R, m
+    double viscosity = 0;             // mu, Pa s
+    std::vector<double> beta;         // per ring, Pa s / m^2 (0: clear fluid)
     std::vector<double> grain_speed;  // v per ring, m/s
 };
 

@@ -26,7 +26,8 @@ CoupledValveFlow::CoupledValveFlow(const ValveGeometry& valve, double z_lo, doub
             const double lo = a + (b - a) * static_cast<double>(i) / static_cast<double>(n);
             const double hi = a + (b - a) * static_cast<double>(i + 1) / static_cast<double>(n);
             const double mid = 0.5 * (lo + hi);
-            slices_.push_back({lo, hi, resistance_radius(lo, hi), mid < exit || mid > exit + jet_length, static_cast<int>(p)});
+            slices_.push_back(
+                {lo, hi, resistance_radius(lo, hi), mid < exit || mid > exit + jet_length, static_cast<int>(p)});
         }
     }
     speed_.assign(slices_.size() * static_cast<std::size_t>(rings_), 0.0);
@@ -93,7 +94,7 @@ double CoupledValveFlow::stream_slope(double z) const { return jet_stream_slope(
 double CoupledValveFlow::slice_profile(std::size_t k, double xi) const {
     const double* u = speed_.data() + k * static_cast<std::size_t>(rings_);
     const double s = xi * rings_ - 0.5;  // in ring-centre units
-    if (s <= 0) return u[0];  // the axis: du/dr = 0
+    if (s <= 0) return u[0];             // the axis: du/dr = 0
     const int j = static_cast<int>(s);
     const double w = s - j;
     if (j + 1 >= rings_) return u[rings_ - 1] * std::max(0.0, 1.0 - 2.0 * w);  // to 0 at the wall, half a ring out

@@ -9,13 +9,12 @@
 // Grid: the stretch [z_lo, z_hi] is cut at the valve's breakpoints (taper start, throat start,
 // orifice exit), so the passage radius R(z) is smooth inside each slice, and each piece into
 // slices of about `cell_length`. Slice k holds u_kj at the ring centres (j + 1/2) R_k / n, with
-// R_k the radius that gives the slice's clear Poiseuille resistance. Between ring centres u is linear in r / R(z), zero at the
-// wall; along z it is linear between slice centres of the same piece and scaled by (R_k / R(z))^2,
-// so the taper's slices carry their flow rate into the narrowing cone. In the taper the radial
-// velocity u_r = u_z r R'(z) / R(z) keeps the streamlines at fixed r / R (as the converging
-// profile, fluid/valve_flow.hpp). Past the orifice exit the fluid leaves as a jet that re-opens to
-// the bore over `jet_length` (the converging profile's mirrored taper): the slices there solve
-// only the stream, r < R_f(z), and the fluid in the step's corner outside it is at rest. (The
+// R_k the radius that gives the slice's clear Poiseuille resistance. Between ring centres u is linear in r / R(z), zero
+// at the wall; along z it is linear between slice centres of the same piece and scaled by (R_k / R(z))^2, so the
+// taper's slices carry their flow rate into the narrowing cone. In the taper the radial velocity u_r = u_z r R'(z) /
+// R(z) keeps the streamlines at fixed r / R (as the converging profile, fluid/valve_flow.hpp). Past the orifice exit
+// the fluid leaves as a jet that re-opens to the bore over `jet_length` (the converging profile's mirrored taper): the
+// slices there solve only the stream, r < R_f(z), and the fluid in the step's corner outside it is at rest. (The
 // slices' lubrication balance has no inertia, so it cannot make the jet itself: without it the
 // throat's plug would stop dead at the exit and pile the grains there.)
 #include <cstdint>

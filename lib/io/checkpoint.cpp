@@ -164,7 +164,8 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
         binary::put(out, sum);
         if (!out) throw std::runtime_error("failed writing checkpoint " + tmp);
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot move checkpoint into place at " + path);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+        throw std::runtime_error("cannot move checkpoint into place at " + path);
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {
@@ -228,7 +229,8 @@ void restore_state(const std::string& path, System& s) {
             s.physics.flow_lookup_interval = 1;
         }
         const auto nwalls = binary::get<std::uint64_t>(in);
-        if (nwalls != s.walls.size()) throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
+        if (nwalls != s.walls.size())
+            throw std::runtime_error("checkpoint " + path + " does not match its scene's walls");
         for (Wall& w : s.walls) {
             w.point = binary::get<Vec3>(in);
             w.velocity = binary::get<Vec3>(in);

@@ -1,9 +1,8 @@
 #pragma once
 // Checkpoints: the resolved scene plus the full dynamic state (grains, contact history, walls,
 // rafts, protocol position), enough to continue a run bit for bit.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "system.hpp"
 

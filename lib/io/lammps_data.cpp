@@ -34,17 +34,15 @@ void put_words(std::string& out, std::initializer_list<double> values) {
 void write_lammps_data(const std::string& path, const Particles& p, const Domain& domain,
                        const std::vector<double>& density_per_material) {
     const std::size_t n = p.size();
-    if (density_per_material.empty())
-        throw std::invalid_argument("write_lammps_data: density_per_material is empty");
+    if (density_per_material.empty()) throw std::invalid_argument("write_lammps_data: density_per_material is empty");
     for (double rho : density_per_material)
         if (!(rho > 0.0)) throw std::invalid_argument("write_lammps_data: densities must be positive");
     constexpr std::uint64_t max_lammps_id = 2147483647;  // tagint is a 32-bit int in LIGGGHTS
     for (std::size_t i = 0; i < n; ++i) {
         if (p.material[i] >= density_per_material.size())
-            throw std::invalid_argument("write_lammps_data: particle " + std::to_string(p.id[i]) +
-                                        " has material " + std::to_string(p.material[i]) +
-                                        " but only " + std::to_string(density_per_material.size()) +
-                                        " densities were given");
+            throw std::invalid_argument("write_lammps_data: particle " + std::to_string(p.id[i]) + " has material " +
+                                        std::to_string(p.material[i]) + " but only " +
+                                        std::to_string(density_per_material.size()) + " densities were given");
         if (p.id[i] >= max_lammps_id)
             throw std::invalid_argument("write_lammps_data: particle id " + std::to_string(p.id[i]) +
                                         " does not fit a LAMMPS atom id");
@@ -85,8 +83,8 @@ void write_lammps_data(const std::string& path, const Particles& p, const Domain
         put_text(out, p.id[i] + 1);
         out += ' ';
         put_text(out, static_cast<unsigned>(p.material[i]) + 1u);
-        put_words(out, {2.0 * p.radius[i], density_per_material[p.material[i]], p.position[i].x,
-                        p.position[i].y, p.position[i].z});
+        put_words(out, {2.0 * p.radius[i], density_per_material[p.material[i]], p.position[i].x, p.position[i].y,
+                        p.position[i].z});
         out += '\n';
         if (out.size() >= flush_threshold) flush(out);
     }

@@ -47,7 +47,7 @@ void put_text(std::string& out, double v) {
 }
 
 template <class I>
-    requires std::is_integral_v<I>
+requires std::is_integral_v<I>
 void put_text(std::string& out, I v) {
     char buf[24];
     const auto r = std::to_chars(buf, buf + sizeof(buf), v);
@@ -114,7 +114,8 @@ void legacy_field_scalars(std::string& out, const std::string& name, const char*
     out += '\n';
 }
 
-void write_vtk_legacy(Output& file, const Particles& p, long step, double time, const std::vector<IntPointArray>& extra) {
+void write_vtk_legacy(Output& file, const Particles& p, long step, double time,
+                      const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     if (n > static_cast<std::size_t>(INT32_MAX / 2))
         throw std::runtime_error("mrjam: too many particles for a legacy VTK file; use vtp");
@@ -209,8 +210,7 @@ public:
 
 private:
     void emit() {
-        static constexpr char table[] =
-            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        static constexpr char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         const unsigned b0 = pending_[0];
         const unsigned b1 = count_ > 1 ? pending_[1] : 0u;
         const unsigned b2 = count_ > 2 ? pending_[2] : 0u;
@@ -229,8 +229,8 @@ private:
 // Opens a binary DataArray, writes the UInt64 byte-count header, calls body(encoder) to encode
 // the payload, and closes the element.
 template <class Body>
-void xml_array(std::string& out, const char* type, const char* name, int components,
-               std::uint64_t payload_bytes, Body body) {
+void xml_array(std::string& out, const char* type, const char* name, int components, std::uint64_t payload_bytes,
+               Body body) {
     out += "        <DataArray type=\"";
     out += type;
     out += "\"";
@@ -342,7 +342,8 @@ void put_vec(std::string& out, const Vec3& v) {
     put_text(out, v.z);
 }
 
-void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long step, const std::vector<IntPointArray>& extra) {
+void write_lammps_dump(Output& file, const Particles& p, const Domain& d, long step,
+                       const std::vector<IntPointArray>& extra) {
     const std::size_t n = p.size();
     std::string out;
     out.reserve(std::min<std::size_t>(n * 400, flush_threshold) + 1024);
@@ -392,21 +393,23 @@ SnapshotFormat snapshot_format_from_name(const std::string& name) {
     if (name == "vtk") return SnapshotFormat::vtk_legacy;
     if (name == "vtp") return SnapshotFormat::vtk_xml;
     if (name == "lammps") return SnapshotFormat::lammps_dump;
-    throw std::invalid_argument("unknown snapshot format '" + name +
-                                "' (valid: vtk, vtp, lammps)");
+    throw std::invalid_argument("unknown snapshot format '" + name + "' (valid: vtk, vtp, lammps)");
 }
 
 std::string snapshot_extension(SnapshotFormat format) {
     switch (format) {
-        case SnapshotFormat::vtk_legacy: return ".vtk";
-        case SnapshotFormat::vtk_xml: return ".vtp";
-        case SnapshotFormat::lammps_dump: return ".dump";
+        case SnapshotFormat::vtk_legacy:
+            return ".vtk";
+        case SnapshotFormat::vtk_xml:
+            return ".vtp";
+        case SnapshotFormat::lammps_dump:
+            return ".dump";
     }
     throw std::invalid_argument("unknown snapshot format");
 }
 
-void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles,
-                    const Domain& domain, long step, double time, const std::vector<IntPointArray>& extra) {
+void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles, const Domain& domain,
+                    long step, double time, const std::vector<IntPointArray>& extra) {
     // Checked before the file is opened, so a bad call leaves no half-written snapshot behind.
     for (const IntPointArray& a : extra) {
         if (a.values.size() != particles.size())
@@ -417,9 +420,15 @@ void write_snapshot(const std::string& path, SnapshotFormat format, const Partic
     }
     Output file(path);
     switch (format) {
-        case SnapshotFormat::vtk_legacy: write_vtk_legacy(file, particles, step, time, extra); break;
-        case SnapshotFormat::vtk_xml: write_vtk_xml(file, particles, step, time, extra); break;
-        case SnapshotFormat::lammps_dump: write_lammps_dump(file, particles, domain, step, extra); break;
+        case SnapshotFormat::vtk_legacy:
+            write_vtk_legacy(file, particles, step, time, extra);
+            break;
+        case SnapshotFormat::vtk_xml:
+            write_vtk_xml(file, particles, step, time, extra);
+            break;
+        case SnapshotFormat::lammps_dump:
+            write_lammps_dump(file, particles, domain, step, extra);
+            break;
     }
     file.close();
 }

@@ -51,7 +51,7 @@ struct IntPointArray {
 // Writes one snapshot of every particle to path (created or truncated). Throws
 // std::runtime_error naming the path when the file cannot be opened or written, and
 // std::invalid_argument when an extra array's length or name is wrong.
-void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles,
-                    const Domain& domain, long step, double time, const std::vector<IntPointArray>& extra = {});
+void write_snapshot(const std::string& path, SnapshotFormat format, const Particles& particles, const Domain& domain,
+                    long step, double time, const std::vector<IntPointArray>& extra = {});
 
 }  // namespace mrjam

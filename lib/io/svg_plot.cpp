@@ -14,10 +14,14 @@ namespace {
 std::string escape(const std::string& s) {
     std::string out;
     for (char c : s) {
-        if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '&') out += "&amp;";
-        else out += c;
+        if (c == '<')
+            out += "&lt;";
+        else if (c == '>')
+            out += "&gt;";
+        else if (c == '&')
+            out += "&amp;";
+        else
+            out += c;
     }
     return out;
 }
@@ -50,7 +54,12 @@ void write_svg(const std::string& path, const Plot& plot) {
             ymin = std::min(ymin, s.y[k] - e);
             ymax = std::max(ymax, s.y[k] + e);
         }
-    if (xmin > xmax) { xmin = 0; xmax = 1; ymin = 0; ymax = 1; }
+    if (xmin > xmax) {
+        xmin = 0;
+        xmax = 1;
+        ymin = 0;
+        ymax = 1;
+    }
     xmin = std::min(xmin, 0.0);
     if (plot.y_from_zero) ymin = std::min(ymin, 0.0);
     if (xmax <= xmin) xmax = xmin + 1;
@@ -66,20 +75,28 @@ void write_svg(const std::string& path, const Plot& plot) {
     auto Y = [&](double y) { return top + ph - (y - ymin) / (ymax - ymin) * ph; };
 
     std::ostringstream o;
-    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    o << "<text x=\"" << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.title) << "</text>\n";
+    o << "<text x=\"" << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.title)
+      << "</text>\n";
     for (double x = xmin; x <= xmax + 1e-9 * xs; x += xs) {
-        o << "<line x1=\"" << X(x) << "\" y1=\"" << top << "\" x2=\"" << X(x) << "\" y2=\"" << top + ph << "\" stroke=\"#ddd\"/>\n";
-        o << "<text x=\"" << X(x) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">" << num(x) << "</text>\n";
+        o << "<line x1=\"" << X(x) << "\" y1=\"" << top << "\" x2=\"" << X(x) << "\" y2=\"" << top + ph
+          << "\" stroke=\"#ddd\"/>\n";
+        o << "<text x=\"" << X(x) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">" << num(x)
+          << "</text>\n";
     }
     for (double y = ymin; y <= ymax + 1e-9 * ys; y += ys) {
-        o << "<line x1=\"" << left << "\" y1=\"" << Y(y) << "\" x2=\"" << left + pw << "\" y2=\"" << Y(y) << "\" stroke=\"#ddd\"/>\n";
+        o << "<line x1=\"" << left << "\" y1=\"" << Y(y) << "\" x2=\"" << left + pw << "\" y2=\"" << Y(y)
+          << "\" stroke=\"#ddd\"/>\n";
         o << "<text x=\"" << left - 6 << "\" y=\"" << Y(y) + 4 << "\" text-anchor=\"end\">" << num(y) << "</text>\n";
     }
-    o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph << "\" fill=\"none\" stroke=\"black\"/>\n";
-    o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 15 << "\" text-anchor=\"middle\">" << escape(plot.x_label) << "</text>\n";
-    o << "<text transform=\"translate(20," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << escape(plot.y_label) << "</text>\n";
+    o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
+      << "\" fill=\"none\" stroke=\"black\"/>\n";
+    o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 15 << "\" text-anchor=\"middle\">" << escape(plot.x_label)
+      << "</text>\n";
+    o << "<text transform=\"translate(20," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
+      << escape(plot.y_label) << "</text>\n";
     double ly = top + 10;
     for (const auto& s : plot.series) {
         if (s.line && s.x.size() > 1) {
@@ -89,15 +106,19 @@ void write_svg(const std::string& path, const Plot& plot) {
         } else {
             for (std::size_t k = 0; k < s.x.size(); ++k) {
                 if (k < s.error.size() && s.error[k] > 0)
-                    o << "<line x1=\"" << X(s.x[k]) << "\" y1=\"" << Y(s.y[k] - s.error[k]) << "\" x2=\"" << X(s.x[k]) << "\" y2=\""
-                      << Y(s.y[k] + s.error[k]) << "\" stroke=\"" << s.colour << "\"/>\n";
+                    o << "<line x1=\"" << X(s.x[k]) << "\" y1=\"" << Y(s.y[k] - s.error[k]) << "\" x2=\"" << X(s.x[k])
+                      << "\" y2=\"" << Y(s.y[k] + s.error[k]) << "\" stroke=\"" << s.colour << "\"/>\n";
                 o << "<circle cx=\"" << X(s.x[k]) << "\" cy=\"" << Y(s.y[k]) << "\" r=\"4\" fill=\""
                   << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";
             }
         }
         const double lx = left + pw + 15;
-        if (s.line) o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 20 << "\" y2=\"" << ly << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.5\"/>\n";
-        else o << "<circle cx=\"" << lx + 10 << "\" cy=\"" << ly << "\" r=\"4\" fill=\"" << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";
+        if (s.line)
+            o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 20 << "\" y2=\"" << ly << "\" stroke=\""
+              << s.colour << "\" stroke-width=\"1.5\"/>\n";
+        else
+            o << "<circle cx=\"" << lx + 10 << "\" cy=\"" << ly << "\" r=\"4\" fill=\""
+              << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";
         o << "<text x=\"" << lx + 26 << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
         ly += 20;
     }

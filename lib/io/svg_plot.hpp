@@ -10,8 +10,8 @@ struct PlotSeries {
     std::string label;
     std::vector<double> x, y, error;  // error may be empty
     std::string colour = "#1f77b4";
-    bool line = false;                // line instead of markers
-    bool hollow = false;              // open markers
+    bool line = false;    // line instead of markers
+    bool hollow = false;  // open markers
 };
 
 struct Plot {

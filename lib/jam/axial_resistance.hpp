@@ -30,10 +30,10 @@
 namespace mrjam {
 
 struct AxialResistanceState {
-    double scale = 1.0;             // flow scale s
-    double stretch_pressure = 0;    // sum_k dP_k at the new scale, Pa
-    double arrested_pressure = 0;   // sum_k D1_k / A_k: what the prescribed flow pushes a bed at rest with, Pa
-    double max_fraction = 0;        // densest cell's phi
+    double scale = 1.0;            // flow scale s
+    double stretch_pressure = 0;   // sum_k dP_k at the new scale, Pa
+    double arrested_pressure = 0;  // sum_k D1_k / A_k: what the prescribed flow pushes a bed at rest with, Pa
+    double max_fraction = 0;       // densest cell's phi
     double max_drag_factor = 1;
 };
 
@@ -52,7 +52,9 @@ public:
     // `supply` is the supply pressure now (the circuit stays sized for the scene's); 0 for that one.
     AxialResistanceState update(const System& s, ValveFlow& flow, bool drive, double supply = 0) const;
     // Sets the flow's cell factors (as update() does; for a resumed run).
-    void apply(ValveFlow& flow, std::vector<double> factors) const { flow.set_drag_factors(z_lo_, dz_, std::move(factors)); }
+    void apply(ValveFlow& flow, std::vector<double> factors) const {
+        flow.set_drag_factors(z_lo_, dz_, std::move(factors));
+    }
     // Kozeny-Carman's per-grain drag relative to the feed fraction (>= 1).
     double drag_factor(double fraction) const;
     std::size_t cells() const { return volume_.size(); }

@@ -17,8 +17,8 @@ constexpr double pi = std::numbers::pi;
 
 }  // namespace
 
-double clear_stretch_pressure(const ValveGeometry& valve, double z_lo, double z_hi, double jet_length,
-                              double viscosity, double q) {
+double clear_stretch_pressure(const ValveGeometry& valve, double z_lo, double z_hi, double jet_length, double viscosity,
+                              double q) {
     // Midpoint rule on 4000 pieces: R_f(z) is piecewise linear, R_f^-4 smooth between its breaks.
     const int n = 4000;
     const double dz = (z_hi - z_lo) / n;
@@ -32,8 +32,8 @@ double clear_stretch_pressure(const ValveGeometry& valve, double z_lo, double z_
 
 CoupledFlow::CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& settings)
     : set_(settings),
-      field_(std::make_shared<CoupledValveFlow>(valve, settings.z_lo, settings.z_hi, settings.cell_length, settings.rings,
-                                                settings.jet_length)) {
+      field_(std::make_shared<CoupledValveFlow>(valve, settings.z_lo, settings.z_hi, settings.cell_length,
+                                                settings.rings, settings.jet_length)) {
     const auto& slices = field_->slices();
     const int m = field_->rings();
     if (!(set_.wall_gap >= 0) || set_.wall_gap > 0.5 * valve.throat_radius() / m)
@@ -46,7 +46,8 @@ CoupledFlow::CoupledFlow(const ValveGeometry& valve, const CoupledFlowSettings& 
             auto ring = [&](double z) {
                 const double R = field_->stream_radius(z);
                 const double outer = j + 1 < m || !slices[k].walled ? (j + 1) * R / m : R - set_.wall_gap;
-                return slab_section(outer, set_.slab_half_thickness) - slab_section(j * R / m, set_.slab_half_thickness);
+                return slab_section(outer, set_.slab_half_thickness) -
+                       slab_section(j * R / m, set_.slab_half_thickness);
             };
             volume_[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(j)] =
                 simpson_inside(ring, slices[k].z_lo, slices[k].z_hi, 8);

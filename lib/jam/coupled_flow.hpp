@@ -38,15 +38,15 @@ struct CoupledFlowSettings {
     double cell_length = 0;          // slice length, m
     int rings = 0;                   // rings per slice
     double feed_fraction = 0;
-    double supply_pressure = 0;      // Pa
-    double viscosity = 0;            // Pa s
-    double bore_speed = 0;           // m/s (sets Q0)
+    double supply_pressure = 0;  // Pa
+    double viscosity = 0;        // Pa s
+    double bore_speed = 0;       // m/s (sets Q0)
     // Grain centres stay a radius from the wall, so the wall ring's fraction is counted over the
     // part of it they can reach, up to R - wall_gap (the mix's volume-weighted mean radius):
     // otherwise a ring narrower than a diameter looks half empty at the wall and the fluid
     // slips past a packed bed there.
     double wall_gap = 0;
-    double jet_length = 0;           // past the exit, the stream re-opens to the bore over this, m
+    double jet_length = 0;  // past the exit, the stream re-opens to the bore over this, m
 };
 
 class CoupledFlow {
@@ -65,7 +65,9 @@ public:
     const std::vector<double>& slice_pressure() const { return slice_pressure_; }
     const std::vector<double>& slice_fraction() const { return slice_fraction_; }
     std::size_t cells() const { return field_->slices().size() * static_cast<std::size_t>(field_->rings()); }
-    double ring_volume(std::size_t k, int j) const { return volume_[k * static_cast<std::size_t>(field_->rings()) + static_cast<std::size_t>(j)]; }
+    double ring_volume(std::size_t k, int j) const {
+        return volume_[k * static_cast<std::size_t>(field_->rings()) + static_cast<std::size_t>(j)];
+    }
 
 private:
     CoupledFlowSettings set_;
@@ -78,7 +80,7 @@ private:
 // The clear fluid's pressure drop along the stretch [z_lo, z_hi] at flow rate q (Poiseuille,
 // 8 mu q / (pi R_f^4) integrated over the stream, jet included), for checking a supply pressure
 // before a run.
-double clear_stretch_pressure(const ValveGeometry& valve, double z_lo, double z_hi, double jet_length,
-                              double viscosity, double q);
+double clear_stretch_pressure(const ValveGeometry& valve, double z_lo, double z_hi, double jet_length, double viscosity,
+                              double q);
 
 }  // namespace mrjam

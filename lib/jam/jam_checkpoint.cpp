@@ -16,8 +16,9 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
     out.campaign = h["state"]["campaign"];
     const nlohmann::json& c = out.campaign;
     if (!c.is_object() || !c.contains("scene") || !c.contains("seed_index") || !c.contains("seeds"))
-        throw SceneError("--resume", path + " holds no record of its scene and seeds (written by `mrjam design` "
-                                            "before its jam runs recorded them, or damaged): run the scene again");
+        throw SceneError("--resume", path +
+                                         " holds no record of its scene and seeds (written by `mrjam design` "
+                                         "before its jam runs recorded them, or damaged): run the scene again");
     // A campaign checkpointed before magnetic forces could be held evaluated them every step, and
     // its remaining seeds do too (restore_state enforces it); saying so in its scene keeps the
     // report's `inputs_jam` from showing a later tier default, and new checkpoints carry it on.
@@ -27,7 +28,8 @@ JamCheckpoint read_jam_checkpoint(const std::string& path) {
         if (!scene.contains("model")) scene["model"] = nlohmann::json::object();
         nlohmann::json& model = scene["model"];
         if (model.is_object()) {
-            if (out.header.version < 5 && !model.contains("magnetic_update_interval")) model["magnetic_update_interval"] = 1;
+            if (out.header.version < 5 && !model.contains("magnetic_update_interval"))
+                model["magnetic_update_interval"] = 1;
             if (!model.contains("flow_lookup_interval")) model["flow_lookup_interval"] = 1;
         }
     }

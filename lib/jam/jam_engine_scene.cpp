@@ -98,8 +98,9 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     // The flow scales with the supply pressure through the linear circuit, so a raised hold
     // pressure speeds up what the contacts may see.
     const double pressure_ratio = std::max(1.0, js.protocol.hold_pressure / js.flow.supply_pressure);
-    const double throat_speed = pressure_ratio * (v.is_slot() ? SlotValveFlow(v.slot(), js.flow.bore_speed).plug_speed(0.0)
-                                                              : js.flow.bore_speed * std::pow(rb / v.throat_radius(), 2));
+    const double throat_speed =
+        pressure_ratio * (v.is_slot() ? SlotValveFlow(v.slot(), js.flow.bore_speed).plug_speed(0.0)
+                                      : js.flow.bore_speed * std::pow(rb / v.throat_radius(), 2));
     json flow_json = {
         {"type", "valve"}, {"valve", valve_si}, {"bore_speed", js.flow.bore_speed}, {"profile", in.profile}};
     if (in.profile == "converging") flow_json["jet_length"] = js.flow.jet_length;
@@ -118,21 +119,23 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     if (in.neighbour_skin > 0) run_json["skin"] = in.neighbour_skin;
     json fluid_json = {{"viscosity", in.viscosity}, {"flow", flow_json}};
     if (in.flow_lookup_interval > 1) fluid_json["lookup_interval"] = in.flow_lookup_interval;
-    return {{"description", "mrjam jam: generated from the jam scene"},
-            {"seed", in.seed},
-            {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
-            {"materials", materials},
-            {"material_pairs", material_pairs},
-            {"contact", contact_json},
-            {"fluid", fluid_json},
-            {"walls", walls},
-            {"grains", batches},
-            {"magnetic", magnetic_json},
-            {"run", run_json},
-            {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
-                                    {{"name", "field_on"}, {"duration", js.protocol.max_time}},
-                                    {{"name", "release"}, {"duration", std::max(js.protocol.hold_time + js.protocol.release_time, 1e-12)}}})},
-            {"output", output_json}};
+    return {
+        {"description", "mrjam jam: generated from the jam scene"},
+        {"seed", in.seed},
+        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
+        {"materials", materials},
+        {"material_pairs", material_pairs},
+        {"contact", contact_json},
+        {"fluid", fluid_json},
+        {"walls", walls},
+        {"grains", batches},
+        {"magnetic", magnetic_json},
+        {"run", run_json},
+        {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
+                                {{"name", "field_on"}, {"duration", js.protocol.max_time}},
+                                {{"name", "release"},
+                                 {"duration", std::max(js.protocol.hold_time + js.protocol.release_time, 1e-12)}}})},
+        {"output", output_json}};
 }
 
 }  // namespace mrjam

@@ -7,8 +7,9 @@ bool jam_stops_flow(const JamVerdict& v) { return v.jammed && (!v.hold_asked || 
 std::string jam_outcome_word(const JamVerdict& v) {
     if (v.undetermined) return "undetermined";
     // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
-    if (v.incomplete) return v.jammed ? "incomplete (arrested; release not yet tested)"
-                                      : "incomplete (no arrest yet; resume with mrjam jam --resume)";
+    if (v.incomplete)
+        return v.jammed ? "incomplete (arrested; release not yet tested)"
+                        : "incomplete (no arrest yet; resume with mrjam jam --resume)";
     if (!v.jammed) return "fail-no-jam";
     if (v.hold_asked && !v.held) return "fail-no-hold";
     return v.released ? "success" : "fail-irreversible";

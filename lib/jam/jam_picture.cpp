@@ -30,8 +30,10 @@ void write_throat_picture(const std::filesystem::path& path, const System& s, co
         if (std::abs(x) >= r) continue;
         const double rc = std::sqrt(r * r - x * x);  // radius of the cut disc
         std::array<std::uint8_t, 3> colour{170, 170, 170};
-        if (clusters.label[i] == 0 && clusters.size[0] > 1) colour = {40, 90, 220};
-        else if (clusters.size[clusters.label[i]] > 1) colour = {220, 50, 40};
+        if (clusters.label[i] == 0 && clusters.size[0] > 1)
+            colour = {40, 90, 220};
+        else if (clusters.size[clusters.label[i]] > 1)
+            colour = {220, 50, 40};
         const auto [cx, cy] = to_pixel(p.position[i].y, p.position[i].z);
         const int reach = static_cast<int>(std::ceil(rc * scale));
         for (int dy = -reach; dy <= reach; ++dy)

@@ -52,9 +52,9 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, do
         st.flux.first_time_above(called, st.release_start, p.arrest_window, p.release_fraction * st.base_rate) - called;
     // As a share of the open flow at the pressure held (the circuit is linear: P_hold / P times
     // the open flow at the supply pressure).
-    const double leak = closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window,
-                                          p.arrest_window) /
-                        (p.hold_pressure / supply_pressure);
+    const double leak =
+        closed_flow_share(st.flow_history, p.flow_time, st.release_start - p.arrest_window, p.arrest_window) /
+        (p.hold_pressure / supply_pressure);
     // Held: the grains stayed put on average and the bed never gave way (one that gives way and
     // re-forms let a burst through, which the experiment would have seen as fluid getting past).
     return {{"held", rate < limit && !std::isfinite(gave_way)},
@@ -97,8 +97,9 @@ std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
 // which blew up the 10 um mix, and a 44 um 20x case with a 24 um jet (docs/jam.md).
 std::string short_jet_warning(const JamScene& js) {
     if (js.valve.is_slot() || !(js.flow.jet_length > 0) || js.flow.jet_length >= js.valve.taper_length) return {};
-    return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " + format_number(js.flow.jet_length * 1e3) +
-           " mm, shorter than the taper (" + format_number(js.valve.taper_length * 1e3) +
+    return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " +
+           format_number(js.flow.jet_length * 1e3) + " mm, shorter than the taper (" +
+           format_number(js.valve.taper_length * 1e3) +
            " mm), because the scene fixes the tube's length: grains can pile up past the orifice; give "
            "model/downstream_length at least " +
            format_number((js.valve.throat_end_z() + js.valve.taper_length + 2.0 * js.flow.cell_length) * 1e3) +
@@ -117,14 +118,16 @@ void check_observation_interval(const JamProtocol& p, double dt) {
     if (most >= 1)
         throw SceneError("/protocol/observe_every_steps",
                          "observes the flux every " + format_number(interval * 1e6) + " us (step " +
-                             format_number(dt * 1e9) + " ns), fewer than 4 times per arrest window or half flow time (" +
+                             format_number(dt * 1e9) +
+                             " ns), fewer than 4 times per arrest window or half flow time (" +
                              format_number(shortest * 1e6) + " us): give at most " + format_number(most));
     const bool flow_is_shorter = 0.5 * p.flow_time < p.arrest_window;
-    throw SceneError(flow_is_shorter ? "/protocol/flow_time" : "/protocol/arrest_window",
-                     std::string(flow_is_shorter ? "is shorter than 8 steps of " : "is shorter than 4 steps of ") +
-                         format_number(dt * 1e9) + " ns" +
-                         (flow_is_shorter ? " (its second half is the no-field reference, observed at least 4 times)" : "") +
-                         ": lengthen it");
+    throw SceneError(
+        flow_is_shorter ? "/protocol/flow_time" : "/protocol/arrest_window",
+        std::string(flow_is_shorter ? "is shorter than 8 steps of " : "is shorter than 4 steps of ") +
+            format_number(dt * 1e9) + " ns" +
+            (flow_is_shorter ? " (its second half is the no-field reference, observed at least 4 times)" : "") +
+            ": lengthen it");
 }
 
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
@@ -148,9 +151,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                  : st.undetermined ? "no no-field flux to compare with"
                                  : incomplete      ? "interruption"
                                                    : "max_time";
-    const nlohmann::json hold = js.protocol.hold_time > 0
-                                    ? hold_results(st, js.protocol, js.flow.supply_pressure)
-                                    : nlohmann::json(nullptr);
+    const nlohmann::json hold =
+        js.protocol.hold_time > 0 ? hold_results(st, js.protocol, js.flow.supply_pressure) : nlohmann::json(nullptr);
     const JamVerdict verdict = jam_verdict(st, js.protocol, hold, incomplete);
     r["outcome"] = jam_outcome_word(verdict);
     r["stops_flow"] = jam_stops_flow(verdict);
@@ -176,7 +178,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     // and measure), up to the arrest or the end of the field period: for a valve that does not
     // jam, the figure a designer weighs (a creep of 5 % against a flow at 90 %).
     const double field_end = st.jammed ? arrest_called_at(st, js.protocol) : (h.empty() ? 0.0 : h.back().first);
-    const auto shares = st.flux.window_shares(js.protocol.flow_time, field_end, js.protocol.arrest_window, st.base_rate);
+    const auto shares =
+        st.flux.window_shares(js.protocol.flow_time, field_end, js.protocol.arrest_window, st.base_rate);
     r["flux_share_with_field"] = {{"window_s", js.protocol.arrest_window},
                                   {"columns", {"window_end_s", "share_of_no_field_flux"}},
                                   {"rows", shares}};
@@ -206,10 +209,10 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
         if (js.flow.coupled) r["rings_per_slice"] = js.flow.rings;
         r["final_flow_scale"] = st.flow_state.scale;
         // The leak of the closed valve: does the jam stop the fluid as well as the grains?
-        const double leak = st.jammed ? closed_flow_share(st.flow_history, js.protocol.flow_time,
-                                                          js.protocol.flow_time + st.arrest_time,
-                                                          js.protocol.arrest_window)
-                                      : std::nan("");
+        const double leak = st.jammed
+                                ? closed_flow_share(st.flow_history, js.protocol.flow_time,
+                                                    js.protocol.flow_time + st.arrest_time, js.protocol.arrest_window)
+                                : std::nan("");
         r["closed_flow_share"] = number_or_null(leak);
         r["final_densest_cell_fraction"] = st.flow_state.max_fraction;
         nlohmann::json sh = nlohmann::json::array();
@@ -269,7 +272,8 @@ void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled) {
     const auto& slices = coupled.field()->slices();
     if (coupled.slice_pressure().size() == slices.size())  // not before the first update
         for (std::size_t k = 0; k < slices.size(); ++k)
-            rows.push_back({slices[k].centre(), slices[k].radius, coupled.slice_fraction()[k], coupled.slice_pressure()[k]});
+            rows.push_back(
+                {slices[k].centre(), slices[k].radius, coupled.slice_fraction()[k], coupled.slice_pressure()[k]});
     results["coupled_slices"] = {{"columns", {"z_m", "stream_radius_m", "volume_fraction", "pressure_drop_Pa"}},
                                  {"rows", rows}};
     results["clear_stretch_pressure_Pa"] = coupled.clear_stretch_pressure();
@@ -280,18 +284,19 @@ void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled) {
 // the warning says so.
 void write_batch_results(nlohmann::json& report, const JamProtocolState& st, const BatchOutlet& outlet,
                          std::size_t grains_left) {
-    report["results"]["batch"] = {
-        {"outlet_z_m", outlet.z()},
-        {"grains_at_start", st.drained + static_cast<long>(grains_left)},
-        {"grains_drained", st.drained},
-        {"grains_left", grains_left},
-        {"upstream_of_throat_centre_at_start", st.upstream_at_start},
-        {"upstream_of_throat_centre_at_arrest", st.jammed ? nlohmann::json(st.upstream_at_arrest) : nlohmann::json(nullptr)},
-        {"upstream_of_throat_centre_at_end", st.upstream_now}};
+    report["results"]["batch"] = {{"outlet_z_m", outlet.z()},
+                                  {"grains_at_start", st.drained + static_cast<long>(grains_left)},
+                                  {"grains_drained", st.drained},
+                                  {"grains_left", grains_left},
+                                  {"upstream_of_throat_centre_at_start", st.upstream_at_start},
+                                  {"upstream_of_throat_centre_at_arrest",
+                                   st.jammed ? nlohmann::json(st.upstream_at_arrest) : nlohmann::json(nullptr)},
+                                  {"upstream_of_throat_centre_at_end", st.upstream_now}};
     if (st.jammed && 2 * st.upstream_at_arrest < st.upstream_at_start)
         report["warnings"].push_back(
-            "the batch had lost " + std::to_string(std::lround(100.0 * (st.upstream_at_start - st.upstream_at_arrest) /
-                                                                   std::max(1L, st.upstream_at_start))) +
+            "the batch had lost " +
+            std::to_string(std::lround(100.0 * (st.upstream_at_start - st.upstream_at_arrest) /
+                                       std::max(1L, st.upstream_at_start))) +
             " % of its grains upstream of the throat by the arrest: the flux may have stopped because the feed "
             "ran out, not because an arch held; lengthen model/upstream_length");
 }
@@ -349,8 +354,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     check_observation_interval(p, s.dt);
     if (const std::string w = short_jet_warning(js); options.progress && !w.empty())
         std::cerr << "[jam] warning: " << w << "\n";
-    if (options.progress)
-        std::cerr << "[jam] " << s.particles.size() << " grains, time step " << s.dt * 1e9 << " ns\n";
+    if (options.progress) std::cerr << "[jam] " << s.particles.size() << " grains, time step " << s.dt * 1e9 << " ns\n";
 
     // The magnet is switched on after the no-field flow and off when the flow has arrested.
     auto field = std::make_shared<SwitchedField>(s.magnetic.field, p.flow_time);
@@ -387,9 +391,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         }
         // From the arrest on the supply rises to the hold pressure (protocol/hold_pressure and its
         // ramp; the same pressure by default).
-        const double supply = st.jammed ? p.supply_after_arrest(sys.time - arrest_called_at(st, p),
-                                                                js.flow.supply_pressure)
-                                        : js.flow.supply_pressure;
+        const double supply = st.jammed
+                                  ? p.supply_after_arrest(sys.time - arrest_called_at(st, p), js.flow.supply_pressure)
+                                  : js.flow.supply_pressure;
         if (coupled)
             st.flow_state = coupled->update(sys, supply);
         else if (valve_flow)

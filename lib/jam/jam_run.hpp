@@ -22,8 +22,8 @@ struct JamRunOptions {
 };
 
 struct JamOutcome {
-    nlohmann::json report;     // the engine's report with results.jam filled in
-    int exit_status = 0;       // 0, 3 blow-up, 130 interrupted (partial flux history kept)
+    nlohmann::json report;    // the engine's report with results.jam filled in
+    int exit_status = 0;      // 0, 3 blow-up, 130 interrupted (partial flux history kept)
     bool jammed = false;      // the grain flux arrested with the field on
     bool stops_flow = false;  // ... and, with protocol/hold_time, stayed arrested over the hold
     double time_to_arrest = -1;

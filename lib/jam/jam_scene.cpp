@@ -11,9 +11,9 @@
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_engine_scene.hpp"
 #include "magnetic/external_field.hpp"
+#include "scene/material_ranges.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
-#include "scene/material_ranges.hpp"
 #include "scene/scene_parts.hpp"
 
 namespace mrjam {
@@ -81,7 +81,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // above a floor on the gap in radii (docs/magnetic_forces.md, "Close pairs"). Off by default:
     // the source's model is point dipoles.
     const double close_pairs_min_gap =
-        model.has("close_pairs_min_gap") ? model.number("close_pairs_min_gap", std::nullopt, Bounds::closed(0.005, 0.5)) : 0.0;
+        model.has("close_pairs_min_gap") ? model.number("close_pairs_min_gap", std::nullopt, Bounds::closed(0.005, 0.5))
+                                         : 0.0;
     // Steps between carrier-flow lookups at the grains (held in between; docs/jam.md measures the cost).
     const long long flow_lookup_interval = model.integer("flow_lookup_interval", ts.flow_lookup_interval, 1, 100);
     // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
@@ -119,8 +120,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     try {
         out.valve = read_valve(SceneNode(valve_in, valve_echo, "/valve"));
     } catch (const SceneError& e) {
-        if (lengths_from_model && e.path() == "/valve/upstream_length")
-            throw e.at("/model/upstream_length");
+        if (lengths_from_model && e.path() == "/valve/upstream_length") throw e.at("/model/upstream_length");
         throw;
     }
     root.resolved_child("valve") = valve_echo;
@@ -146,7 +146,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         for (std::size_t k = 0; k < table.mass.size(); ++k)
             if (table.mass[k] == 0)
                 throw SceneError(grains.path() + "/mass_fractions/" + std::to_string(k),
-                                 "is 0: a class without mass still sets the model's scales (the largest diameter); drop it and its diameter");
+                                 "is 0: a class without mass still sets the model's scales (the largest diameter); "
+                                 "drop it and its diameter");
     } else {
         table = preset_table(grains.choice("psd", {"44um", "10um"}, "44um"));
     }
@@ -164,7 +165,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                          "must be at least 1 (the largest grain must fit between the faces), or 0 for the full bore");
     if (!v.is_slot() && slab_diameters * out.largest_diameter >= v.constriction_diameter)
         throw SceneError("/model/slab_thickness_diameters",
-                         "a slab " + format_number(slab_diameters) + " largest grains thick is not narrower than the throat (" +
+                         "a slab " + format_number(slab_diameters) +
+                             " largest grains thick is not narrower than the throat (" +
                              format_number(v.constriction_diameter / out.largest_diameter) +
                              " of them): give fewer, or 0 for the full bore");
     if (v.is_slot() && out.largest_diameter >= v.slot_width)
@@ -322,8 +324,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             lo.z > -v.upstream_length + tol || hi.z < v.downstream_length - tol)
             throw SceneError("/field/file", "the field map does not cover the modelled valve (x " +
                                                 format_number(-hx * 1e3) + "..." + format_number(hx * 1e3) + ", y +-" +
-                                                format_number(rb * 1e3) + ", z " + format_number(-v.upstream_length * 1e3) +
-                                                "..." + format_number(v.downstream_length * 1e3) +
+                                                format_number(rb * 1e3) + ", z " +
+                                                format_number(-v.upstream_length * 1e3) + "..." +
+                                                format_number(v.downstream_length * 1e3) +
                                                 " mm); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
         out.field_map = std::make_shared<const FieldMap>(std::move(map));
@@ -346,20 +349,23 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const bool raised = protocol.has("hold_pressure");
     p.hold_pressure = protocol.quantity("hold_pressure", units::pressure, out.flow.supply_pressure, Bounds::positive());
     if (raised && !out.flow.pressure_driven)
-        protocol.fail("hold_pressure", "needs a pressure-driven flow (fluid/flow \"pressure\" or \"coupled\"); the "
-                                       "prescribed flow has no supply pressure");
+        protocol.fail("hold_pressure",
+                      "needs a pressure-driven flow (fluid/flow \"pressure\" or \"coupled\"); the "
+                      "prescribed flow has no supply pressure");
     if (raised && !(p.hold_time > 0))
         protocol.fail("hold_pressure", "is the supply pressure during the hold: give protocol/hold_time too");
     const bool ramped = protocol.has("hold_pressure_ramp");
     p.hold_pressure_ramp = protocol.quantity("hold_pressure_ramp", units::time, 0.0, Bounds::non_negative());
-    if (ramped && !raised) protocol.fail("hold_pressure_ramp", "ramps the supply to protocol/hold_pressure: give that too");
+    if (ramped && !raised)
+        protocol.fail("hold_pressure_ramp", "ramps the supply to protocol/hold_pressure: give that too");
     if (p.hold_pressure_ramp > p.hold_time)
         protocol.fail("hold_pressure_ramp", "must not exceed protocol/hold_time: the hold should reach its pressure");
     p.release_time = protocol.quantity("release_time", units::time, p.release_time, Bounds::non_negative());
     // The release is judged over one arrest window with the field off: a shorter release period
     // would end before the test is made and report every arrest as irreversible.
     if (p.release_time < p.arrest_window)
-        protocol.fail("release_time", "must be at least protocol/arrest_window (" + format_number(p.arrest_window * 1e3) +
+        protocol.fail("release_time", "must be at least protocol/arrest_window (" +
+                                          format_number(p.arrest_window * 1e3) +
                                           " ms): the release is judged over one window with the field off");
     p.release_fraction = protocol.number("release_fraction", p.release_fraction, Bounds::open(0.0, 1.0));
     p.observe_every = protocol.integer("observe_every_steps", p.observe_every, 1, 100000);

@@ -8,9 +8,8 @@
 // from the throat is a straight cylinder, so the seam is invisible to it).
 #include <algorithm>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "geometry/valve.hpp"
 #include "magnetic/external_field.hpp"
@@ -22,15 +21,15 @@ struct JamProtocol {
     double max_time = 3e-3;         // s, with the field, unless arrest comes first
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long
     double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux
-    double hold_time = 0;           // s, field kept on after an arrest before the release test (does the jam hold, seal?)
-    double hold_pressure = 0;       // Pa, supply pressure from the arrest on (the experiment raised it to > 405 kPa); the
-                                    // scene's supply_pressure unless given
-    double hold_pressure_ramp = 0;  // s, reached linearly over this long after the arrest (0: a step)
-    double release_time = 1e-3;     // s, field off after an arrest
-    double release_fraction = 0.25; // released: flux back above this fraction of the no-field flux
-    long observe_every = 50;        // steps between flux observations
-    double steady_window = 0;       // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
-    double steady_tolerance = 0.15; // relative change from one window to the next that counts as steady
+    double hold_time = 0;      // s, field kept on after an arrest before the release test (does the jam hold, seal?)
+    double hold_pressure = 0;  // Pa, supply pressure from the arrest on (the experiment raised it to > 405 kPa); the
+                               // scene's supply_pressure unless given
+    double hold_pressure_ramp = 0;   // s, reached linearly over this long after the arrest (0: a step)
+    double release_time = 1e-3;      // s, field off after an arrest
+    double release_fraction = 0.25;  // released: flux back above this fraction of the no-field flux
+    long observe_every = 50;         // steps between flux observations
+    double steady_window = 0;        // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
+    double steady_tolerance = 0.15;  // relative change from one window to the next that counts as steady
 
     // The supply pressure `since` seconds after the arrest was called, from the scene's `supply`.
     double supply_after_arrest(double since, double supply) const {
@@ -43,7 +42,7 @@ struct JamProtocol {
 // the grains' Kozeny-Carman resistance on axial cells (lib/jam/axial_resistance.hpp), or driven by
 // it and two-way coupled, the fluid finding its way round the grains (lib/jam/coupled_flow.hpp).
 struct JamFlow {
-    bool pressure_driven = false;    // "pressure" or "coupled"
+    bool pressure_driven = false;  // "pressure" or "coupled"
     bool coupled = false;
     int rings = 0;                   // coupled: rings per slice
     double wall_gap = 0;             // coupled: the mix's volume-weighted mean radius, m
@@ -54,19 +53,19 @@ struct JamFlow {
 };
 
 struct JamScene {
-    nlohmann::json engine_scene;    // for build_scene()
-    nlohmann::json resolved;        // the jam scene with defaults, for the report
+    nlohmann::json engine_scene;  // for build_scene()
+    nlohmann::json resolved;      // the jam scene with defaults, for the report
     JamProtocol protocol;
     JamFlow flow;
     ValveGeometry valve;
-    double slab_half_thickness = 0; // 0: the full bore
+    double slab_half_thickness = 0;  // 0: the full bore
     double largest_diameter = 0;
-    double feed_fraction = 0;       // the mix's volume fraction
-    std::string field_type;         // uniform or map
+    double feed_fraction = 0;  // the mix's volume fraction
+    std::string field_type;    // uniform or map
     // The map as read to check that it covers the valve (unscaled), kept for callers that look
     // the field up themselves (the design's values on the axis); null for a uniform field.
     std::shared_ptr<const FieldMap> field_map;
-    bool batch_supply = false;      // model/supply "batch": grains leaving downstream are removed, none enter
+    bool batch_supply = false;  // model/supply "batch": grains leaving downstream are removed, none enter
     std::string tier;
 
     // A slab thinner than the bore cuts the valve with two plane faces; otherwise the full bore.

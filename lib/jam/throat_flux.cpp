@@ -19,8 +19,10 @@ void ThroatFlux::observe(const System& s) {
     for (std::size_t i = 0; i < x.size(); ++i) {
         const double before = previous_z_[i], now = x[i].z;
         if (std::abs(now - before) < half_period) {
-            if (before < plane_ && now >= plane_) ++passed_;
-            else if (before >= plane_ && now < plane_) --passed_;
+            if (before < plane_ && now >= plane_)
+                ++passed_;
+            else if (before >= plane_ && now < plane_)
+                --passed_;
         }
         previous_z_[i] = now;
     }
@@ -32,8 +34,8 @@ void ThroatFlux::remove_grains(const std::vector<std::int64_t>& new_index, std::
 }
 
 double ThroatFlux::passed_at(double t) const {
-    auto it = std::lower_bound(history_.begin(), history_.end(), t,
-                               [](const auto& h, double v) { return h.first < v; });
+    auto it =
+        std::lower_bound(history_.begin(), history_.end(), t, [](const auto& h, double v) { return h.first < v; });
     return static_cast<double>(it == history_.end() ? history_.back().second : it->second);
 }
 
@@ -53,7 +55,7 @@ double ThroatFlux::first_time_above(double t0, double t1, double window, double 
 }
 
 std::vector<std::pair<double, double>> ThroatFlux::window_shares(double t0, double t1, double window,
-                                                                double base) const {
+                                                                 double base) const {
     std::vector<std::pair<double, double>> shares;
     if (!(base > 0) || !(window > 0)) return shares;
     // Whole windows only, with a margin for the rounding of t0 + k window.

@@ -3,10 +3,9 @@
 // direction), counted from the grains' axial positions at successive observations. In a domain
 // periodic along z a wrap is not a crossing (a displacement of half the period or more).
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "system.hpp"
 

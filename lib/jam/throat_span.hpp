@@ -12,6 +12,7 @@ namespace mrjam {
 // y < 0. Slot: the cluster touches the faces across the gap, contacts whose normal is mostly
 // along -y (the upper face) and +y (the lower); the narrow side faces (x) do not count, since a
 // cluster from one of them to the other lies across the flow without closing the gap.
-bool cluster_spans_throat(const System& s, const ContactClusters& clusters, const ValveGeometry& valve, const Wall& wall);
+bool cluster_spans_throat(const System& s, const ContactClusters& clusters, const ValveGeometry& valve,
+                          const Wall& wall);
 
 }  // namespace mrjam

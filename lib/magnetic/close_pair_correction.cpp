@@ -21,8 +21,7 @@ constexpr int kTablePoints = 96;  // in log(gap): linear interpolation within 0.
 
 ClosePairTable::ClosePairTable(double mu, const ClosePairSettings& settings)
     : mu_(mu), min_gap_(settings.min_gap), range_(settings.range) {
-    if (!(min_gap_ > 0) || !(range_ > min_gap_))
-        throw std::invalid_argument("close pairs: need 0 < min_gap < range");
+    if (!(min_gap_ > 0) || !(range_ > min_gap_)) throw std::invalid_argument("close pairs: need 0 < min_gap < range");
     const double lo = std::log(min_gap_), hi = std::log(range_);
     for (int k = 0; k < kTablePoints; ++k) {
         const double log_gap = lo + (hi - lo) * k / (kTablePoints - 1);
@@ -111,9 +110,9 @@ void add_close_pair_forces(const MagneticModel& model, const Particles& p, doubl
                 // A field map was looked up once per grain for this evaluation (the moments').
                 const Vec3 applied_i = uniform ? h_uniform : model.applied_flux_density[i] * (1.0 / kMu0);
                 const Vec3 applied_j = uniform ? h_uniform : model.applied_flux_density[j] * (1.0 / kMu0);
-                const Vec3 h = (applied_i + applied_j + model.neighbour_field[i] + model.neighbour_field[j] -
-                                from_j - from_i) *
-                               0.5;
+                const Vec3 h =
+                    (applied_i + applied_j + model.neighbour_field[i] + model.neighbour_field[j] - from_j - from_i) *
+                    0.5;
                 const Vec3 pair_force = close_pair_force(table, d, a, h);
                 f[i] += pair_force;
                 f[j] -= pair_force;

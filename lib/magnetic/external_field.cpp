@@ -43,7 +43,9 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
         } while (line.empty() || line[0] == '#');
         return std::istringstream(line);
     };
-    auto bad = [&](const char* what) { return std::runtime_error(path + ":" + std::to_string(line_no) + ": expected " + what); };
+    auto bad = [&](const char* what) {
+        return std::runtime_error(path + ":" + std::to_string(line_no) + ": expected " + what);
+    };
     {
         auto s = next("the header");
         std::string magic;
@@ -52,9 +54,18 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
     }
     std::array<int, 3> count{};
     Vec3 origin, spacing;
-    { auto s = next("the node counts"); if (!(s >> count[0] >> count[1] >> count[2])) throw bad("three node counts"); }
-    { auto s = next("the origin"); if (!(s >> origin.x >> origin.y >> origin.z)) throw bad("the origin x0 y0 z0"); }
-    { auto s = next("the spacing"); if (!(s >> spacing.x >> spacing.y >> spacing.z)) throw bad("the spacing dx dy dz"); }
+    {
+        auto s = next("the node counts");
+        if (!(s >> count[0] >> count[1] >> count[2])) throw bad("three node counts");
+    }
+    {
+        auto s = next("the origin");
+        if (!(s >> origin.x >> origin.y >> origin.z)) throw bad("the origin x0 y0 z0");
+    }
+    {
+        auto s = next("the spacing");
+        if (!(s >> spacing.x >> spacing.y >> spacing.z)) throw bad("the spacing dx dy dz");
+    }
     if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0)) throw bad("a positive spacing dx dy dz (metres)");
     if (count[0] < 2 || count[1] < 2 || count[2] < 2 || count[0] > 4096 || count[1] > 4096 || count[2] > 4096)
         throw std::runtime_error(path + ": node counts must be between 2 and 4096");
@@ -72,8 +83,8 @@ FieldMap FieldMap::read(const std::string& path, double scale) {
         ++line_no;
         if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#')
             throw std::runtime_error(path + ":" + std::to_string(line_no) + ": more values than the header's " +
-                                     std::to_string(count[0]) + " x " + std::to_string(count[1]) + " x " + std::to_string(count[2]) +
-                                     " nodes; check the node counts");
+                                     std::to_string(count[0]) + " x " + std::to_string(count[1]) + " x " +
+                                     std::to_string(count[2]) + " nodes; check the node counts");
     }
     return FieldMap(count, origin, spacing, std::move(values), scale);
 }
@@ -119,7 +130,8 @@ Gradient FieldMap::gradient(const Vec3& x, double) const {
     for (int dz = 0; dz < 2; ++dz)
         for (int dy = 0; dy < 2; ++dy)
             for (int dx = 0; dx < 2; ++dx) {
-                const double wx = dx ? c.f[0] : 1 - c.f[0], wy = dy ? c.f[1] : 1 - c.f[1], wz = dz ? c.f[2] : 1 - c.f[2];
+                const double wx = dx ? c.f[0] : 1 - c.f[0], wy = dy ? c.f[1] : 1 - c.f[1],
+                             wz = dz ? c.f[2] : 1 - c.f[2];
                 const double sx = dx ? 1 : -1, sy = dy ? 1 : -1, sz = dz ? 1 : -1;
                 // d/dx of the trilinear weights; zero across a face the point lies beyond.
                 const double d[3] = {c.outside[0] ? 0 : sx * wy * wz / spacing_.x,

@@ -68,9 +68,15 @@ public:
     Vec3 upper_corner() const;
 
 private:
-    struct Cell { int i[3]; double f[3]; bool outside[3]; };
+    struct Cell {
+        int i[3];
+        double f[3];
+        bool outside[3];
+    };
     Cell locate(const Vec3& x) const;
-    const Vec3& node(int i, int j, int k) const { return values_[(static_cast<std::size_t>(k) * count_[1] + j) * count_[0] + i]; }
+    const Vec3& node(int i, int j, int k) const {
+        return values_[(static_cast<std::size_t>(k) * count_[1] + j) * count_[0] + i];
+    }
 
     std::array<int, 3> count_;
     Vec3 origin_, spacing_;

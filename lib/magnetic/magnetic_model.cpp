@@ -196,8 +196,10 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
         }
     }
     // Forces; for the lagged policy the same pass gives the neighbour field of the next moments.
-    if (model.any_permanent) pair_pass<true, true>(model, p, threads, buffers, force, torque);
-    else pair_pass<true, false>(model, p, threads, buffers, force, torque);
+    if (model.any_permanent)
+        pair_pass<true, true>(model, p, threads, buffers, force, torque);
+    else
+        pair_pass<true, false>(model, p, threads, buffers, force, torque);
     ++model.force_passes;
     if (s.policy == MutualPolicy::lagged) ++model.field_passes;
     if (s.close_pairs.enabled) add_close_pair_forces(model, p, time, threads, force);
@@ -227,10 +229,14 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
 
 const char* policy_name(MutualPolicy policy) {
     switch (policy) {
-        case MutualPolicy::fixed: return "fixed";
-        case MutualPolicy::lagged: return "lagged";
-        case MutualPolicy::iterations: return "iterations";
-        case MutualPolicy::converged: return "converged";
+        case MutualPolicy::fixed:
+            return "fixed";
+        case MutualPolicy::lagged:
+            return "lagged";
+        case MutualPolicy::iterations:
+            return "iterations";
+        case MutualPolicy::converged:
+            return "converged";
     }
     return "?";
 }

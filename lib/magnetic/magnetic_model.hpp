@@ -48,10 +48,10 @@ const char* policy_name(MutualPolicy policy);
 
 struct MagneticSettings {
     MutualPolicy policy = MutualPolicy::lagged;
-    int iterations = 1;         // for `iterations`
-    double tolerance = 1e-6;    // for `converged`: max |dm| / max |m|
-    int max_iterations = 500;   // for `converged`
-    double cutoff_scale = 0;    // range = scale (R_i + R_j) + extra
+    int iterations = 1;        // for `iterations`
+    double tolerance = 1e-6;   // for `converged`: max |dm| / max |m|
+    int max_iterations = 500;  // for `converged`
+    double cutoff_scale = 0;   // range = scale (R_i + R_j) + extra
     double cutoff_extra = 0;
     // Steps between magnetic evaluations (multiple time stepping): the moments, pair forces,
     // torques and gradient forces are evaluated every `update_interval` steps and held in
@@ -75,14 +75,14 @@ struct MagneticModel {
     // and time are fixed within one) for the moments, the torques and the close-pair correction.
     std::vector<Vec3> applied_flux_density;
     bool any_permanent = false;
-    long field_passes = 0;              // mutual-dipole field evaluations so far
+    long field_passes = 0;  // mutual-dipole field evaluations so far
     long force_passes = 0;
-    long skipped_passes = 0;            // steps with the field off and no permanent moment
+    long skipped_passes = 0;  // steps with the field off and no permanent moment
     // With update_interval > 1: the magnetic force and torque on each grain from the last
     // evaluation, and how many steps (that one included) have used them. Empty when none is held.
     std::vector<Vec3> held_force, held_torque;
     int held_age = 0;
-    long held_passes = 0;               // steps that reused held forces
+    long held_passes = 0;  // steps that reused held forces
 };
 
 // True while the magnet acts: the applied field is on, or some grain carries a permanent moment.

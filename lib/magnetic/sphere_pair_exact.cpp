@@ -64,9 +64,10 @@ double translation_coefficient(int m, int l, int n, double offset) {
     if (m < 0 || m > 1 || l < m || n < std::max(m, 0) || (m == 1 && n < 1))
         throw std::invalid_argument("translation_coefficient: orders out of range");
     const int k = l + n;
-    const double log_magnitude = m == 0
-        ? std::lgamma(k + 1.0) - std::lgamma(n + 1.0) - std::lgamma(l + 1.0) - (k + 1) * std::log(std::abs(offset))
-        : std::lgamma(k + 1.0) - std::lgamma(n + 0.0) - std::lgamma(l + 2.0) - (k + 1) * std::log(std::abs(offset));
+    const double log_magnitude =
+        m == 0
+            ? std::lgamma(k + 1.0) - std::lgamma(n + 1.0) - std::lgamma(l + 1.0) - (k + 1) * std::log(std::abs(offset))
+            : std::lgamma(k + 1.0) - std::lgamma(n + 0.0) - std::lgamma(l + 2.0) - (k + 1) * std::log(std::abs(offset));
     const bool negative_offset_sign = offset < 0 && (k % 2 == 1);  // sign(s)^k
     const bool hobson_sign = (n + m) % 2 == 1;                     // (-1)^n, and the extra -1 for m = 1
     const double sign = (negative_offset_sign != hobson_sign) ? -1.0 : 1.0;

@@ -19,7 +19,7 @@ namespace mrjam {
 enum class PairOrientation { axial, transverse };
 
 struct SpherePairResponse {
-    double polarisability = 0;  // total moment / (4 pi a^3 H0)
+    double polarisability = 0;      // total moment / (4 pi a^3 H0)
     double dpolarisability_ds = 0;  // its derivative with the centre distance over the radius
     int order = 0;                  // highest multipole order kept
 };

@@ -1,13 +1,13 @@
 #include "neighbor/neighbor_list.hpp"
 
-#include "io/binary_io.hpp"
-
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+
+#include "io/binary_io.hpp"
 
 namespace mrjam {
 namespace {
@@ -67,8 +67,15 @@ struct AxisRange {
     std::vector<double> gap2;  // squared distance along the axis from the grain to the cell (0: unknown)
     int n = 0;
     void push(int c, int w) {
-        if (n == static_cast<int>(cell.size())) { cell.push_back(c); wrap.push_back(w); gap2.push_back(0); }
-        else { cell[n] = c; wrap[n] = w; gap2[n] = 0; }
+        if (n == static_cast<int>(cell.size())) {
+            cell.push_back(c);
+            wrap.push_back(w);
+            gap2.push_back(0);
+        } else {
+            cell[n] = c;
+            wrap[n] = w;
+            gap2[n] = 0;
+        }
         ++n;
     }
 };
@@ -84,8 +91,13 @@ void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
     for (int d = -reach; d <= reach; ++d) {
         int k = c + d, w = 0;
         if (periodic) {
-            if (k < 0) { k += count; w = -1; }
-            else if (k >= count) { k -= count; w = +1; }
+            if (k < 0) {
+                k += count;
+                w = -1;
+            } else if (k >= count) {
+                k -= count;
+                w = +1;
+            }
         } else if (k < 0 || k >= count) {
             continue;
         }
@@ -99,7 +111,10 @@ void axis_range(int c, int reach, int count, bool periodic, AxisRange& r) {
 // it reaches to infinity on that side; a whole-period entry (wrap 2) is never skipped.
 void axis_gaps(const CellGrid& g, int k, double x, double box_length, bool periodic, AxisRange& r) {
     for (int a = 0; a < r.n; ++a) {
-        if (r.wrap[a] == 2) { r.gap2[a] = 0; continue; }
+        if (r.wrap[a] == 2) {
+            r.gap2[a] = 0;
+            continue;
+        }
         const int c = r.cell[a];
         const double shift = r.wrap[a] * box_length;
         const double lo = (!periodic && c == 0) ? -INFINITY : g.lo[k] + c * g.size[k] + shift;
@@ -138,7 +153,10 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
     for (std::size_t i = 0; i < n; ++i) domain.wrap(p.position[i], p.velocity[i]);
 
     double r_max = 0, r_sum = 0;
-    for (std::size_t i = 0; i < n; ++i) { r_max = std::max(r_max, p.radius[i]); r_sum += p.radius[i]; }
+    for (std::size_t i = 0; i < n; ++i) {
+        r_max = std::max(r_max, p.radius[i]);
+        r_sum += p.radius[i];
+    }
     const double r_mean = n ? r_sum / n : 0;
     for (int k = 0; k < 3; ++k) {
         if (domain.periodic[k] && pair_cutoff(r_max, r_max) > 0.5 * len[k]) {
@@ -166,9 +184,12 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
             const double reach_len = pair_cutoff(ri, ri);
             int c[3];
             for (int k = 0; k < 3; ++k) c[k] = grid.axis_cell(xi[k], k);
-            axis_range(c[0], static_cast<int>(std::ceil(reach_len / grid.size[0])), grid.count[0], domain.periodic[0], rx);
-            axis_range(c[1], static_cast<int>(std::ceil(reach_len / grid.size[1])), grid.count[1], domain.periodic[1], ry);
-            axis_range(c[2], static_cast<int>(std::ceil(reach_len / grid.size[2])), grid.count[2], domain.periodic[2], rz);
+            axis_range(c[0], static_cast<int>(std::ceil(reach_len / grid.size[0])), grid.count[0], domain.periodic[0],
+                       rx);
+            axis_range(c[1], static_cast<int>(std::ceil(reach_len / grid.size[1])), grid.count[1], domain.periodic[1],
+                       ry);
+            axis_range(c[2], static_cast<int>(std::ceil(reach_len / grid.size[2])), grid.count[2], domain.periodic[2],
+                       rz);
             const int reach_x = static_cast<int>(std::ceil(reach_len / grid.size[0]));
             // No partner of i (none larger than i) is farther than reach_len.
             const double reach2 = reach_len * reach_len;
@@ -220,7 +241,8 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             const double cut = pair_cutoff(ri, p.radius[j]);
                             if (norm2(d) >= cut * cut) continue;
                             // image code: shift = -w L added to x_i - x_j.
-                            const auto code = static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
+                            const auto code =
+                                static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
                             push_pair(ch, carry, i, j, code, interaction_range(ri, p.radius[j]));
                             ++ch.count[ii - begin];
                         }
@@ -234,10 +256,12 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
 void NeighborList::build_within(const NeighborList& wider, Particles& p, const Domain& domain, int threads) {
     const std::size_t n = p.size();
     if (!fits_within(wider) || wider.offsets.size() != n + 1 ||
-        !std::equal(p.position.begin(), p.position.end(), wider.position_at_build_.begin(), wider.position_at_build_.end(),
+        !std::equal(p.position.begin(), p.position.end(), wider.position_at_build_.begin(),
+                    wider.position_at_build_.end(),
                     [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }))
-        throw std::logic_error("build_within: the wider list must share the skin, reach at least as far and have "
-                               "been built at these positions");
+        throw std::logic_error(
+            "build_within: the wider list must share the skin, reach at least as far and have "
+            "been built at these positions");
     set_images(domain);
     const int nthreads = std::max(1, threads);
     const bool carry = begin_build(n, nthreads);
@@ -282,18 +306,27 @@ bool NeighborList::begin_build(std::size_t n, int nthreads) {
     old_touching_.swap(touching);
     chunks_.resize(nthreads);
     for (Chunk& ch : chunks_) {
-        ch.partner.clear(); ch.image.clear(); ch.history.clear(); ch.touching.clear(); ch.range_sq.clear();
+        ch.partner.clear();
+        ch.image.clear();
+        ch.history.clear();
+        ch.touching.clear();
+        ch.range_sq.clear();
     }
     return settings_.keep_history && old_offsets_.size() == n + 1;
 }
 
-void NeighborList::push_pair(Chunk& ch, bool carry, std::uint32_t i, std::uint32_t j, std::uint8_t code, double range) const {
+void NeighborList::push_pair(Chunk& ch, bool carry, std::uint32_t i, std::uint32_t j, std::uint8_t code,
+                             double range) const {
     if (settings_.keep_history) {  // a list without history (the magnetic range) stores none
         ContactHistory h{};
         std::uint8_t touch = 0;
         if (carry) {
             for (std::uint32_t k = old_offsets_[i]; k < old_offsets_[i + 1]; ++k)
-                if (old_partners_[k] == j) { h = old_history_[k]; touch = old_touching_[k]; break; }
+                if (old_partners_[k] == j) {
+                    h = old_history_[k];
+                    touch = old_touching_[k];
+                    break;
+                }
         }
         ch.history.push_back(h);
         ch.touching.push_back(touch);
@@ -308,15 +341,25 @@ void NeighborList::finish_build(const Particles& p, int nthreads) {
     offsets.assign(n + 1, 0);
     std::size_t i = 0;
     for (const auto& ch : chunks_)
-        for (auto c : ch.count) { offsets[i + 1] = offsets[i] + c; ++i; }
+        for (auto c : ch.count) {
+            offsets[i + 1] = offsets[i] + c;
+            ++i;
+        }
     if (nthreads == 1) {
         // One chunk is the whole list: hand its arrays over (the list's old ones become the
         // chunk's buffers for the next build).
         Chunk& ch = chunks_[0];
-        partners.swap(ch.partner); image.swap(ch.image); history.swap(ch.history);
-        touching.swap(ch.touching); range_sq.swap(ch.range_sq);
+        partners.swap(ch.partner);
+        image.swap(ch.image);
+        history.swap(ch.history);
+        touching.swap(ch.touching);
+        range_sq.swap(ch.range_sq);
     } else {
-        partners.clear(); image.clear(); history.clear(); touching.clear(); range_sq.clear();
+        partners.clear();
+        image.clear();
+        history.clear();
+        touching.clear();
+        range_sq.clear();
         for (const auto& ch : chunks_) {
             partners.insert(partners.end(), ch.partner.begin(), ch.partner.end());
             image.insert(image.end(), ch.image.begin(), ch.image.end());

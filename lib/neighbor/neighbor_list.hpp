@@ -31,10 +31,10 @@ namespace mrjam {
 class NeighborList {
 public:
     struct Settings {
-        double skin = 0;         // m
-        double cutoff_scale = 1; // multiple of R_i + R_j
+        double skin = 0;          // m
+        double cutoff_scale = 1;  // multiple of R_i + R_j
         bool keep_history = true;
-        double cutoff_extra = 0; // m added to the interaction range (e.g. a magnetic range beyond contact)
+        double cutoff_extra = 0;  // m added to the interaction range (e.g. a magnetic range beyond contact)
     };
 
     NeighborList() = default;
@@ -42,7 +42,9 @@ public:
 
     const Settings& settings() const { return settings_; }
     // Range within which a pair interacts, and the list cutoff (that range plus the skin).
-    double interaction_range(double ri, double rj) const { return settings_.cutoff_scale * (ri + rj) + settings_.cutoff_extra; }
+    double interaction_range(double ri, double rj) const {
+        return settings_.cutoff_scale * (ri + rj) + settings_.cutoff_extra;
+    }
     double pair_cutoff(double ri, double rj) const { return interaction_range(ri, rj) + settings_.skin; }
 
     // Wraps positions into the periodic box, bins grains and rebuilds the list, carrying the
@@ -59,14 +61,17 @@ public:
     // long for every pair of radii.
     bool fits_within(const NeighborList& wider) const {
         const Settings& w = wider.settings_;
-        return w.skin == settings_.skin && w.cutoff_scale >= settings_.cutoff_scale && w.cutoff_extra >= settings_.cutoff_extra;
+        return w.skin == settings_.skin && w.cutoff_scale >= settings_.cutoff_scale &&
+               w.cutoff_extra >= settings_.cutoff_extra;
     }
 
     bool needs_rebuild(const Particles& p, const Domain& domain, int threads) const;
     // A list left unbuilt while nothing uses it (the magnetic range with the magnet off) is marked
     // stale: its pairs stay as they were, and it is rebuilt before it is next needed.
     void mark_stale() { position_at_build_.clear(); }
-    bool current(std::size_t grains) const { return position_at_build_.size() == grains && offsets.size() == grains + 1; }
+    bool current(std::size_t grains) const {
+        return position_at_build_.size() == grains && offsets.size() == grains + 1;
+    }
     // Positions at the last build and the squared displacement that forces a rebuild, for passes
     // that already touch every position and test each grain themselves. Under Lees-Edwards the
     // offset's change since the build eats into the skin (negative: rebuild now).
@@ -89,7 +94,7 @@ public:
     // Pair k of owner i: k in [offsets[i], offsets[i+1]).
     std::vector<std::uint32_t> offsets;
     std::vector<std::uint32_t> partners;
-    std::vector<std::uint8_t> image;          // index into image_shift(): x_i - x_j + shift
+    std::vector<std::uint8_t> image;  // index into image_shift(): x_i - x_j + shift
     // history and touching are kept only with Settings::keep_history (the contact list); a list
     // without it (the magnetic range) leaves them empty.
     std::vector<ContactHistory> history;

@@ -1,5 +1,7 @@
 #include "run/runner.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -7,8 +9,6 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-
-#include <unistd.h>
 
 #include "integrator.hpp"
 #include "observers.hpp"
@@ -129,19 +129,24 @@ void prepare_output_directory(const std::string& directory, const std::string& j
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);
     if (ec || !std::filesystem::is_directory(directory))
-        throw SceneError(json_path, "cannot create the directory " + directory + (ec ? " (" + ec.message() + ")" : " (a file is in the way)") +
+        throw SceneError(json_path, "cannot create the directory " + directory +
+                                        (ec ? " (" + ec.message() + ")" : " (a file is in the way)") +
                                         ": choose another");
 }
 
 void check_checkpoint_path(const std::string& path, const std::string& json_path) {
     const std::filesystem::path p(path);
     if (path.empty() || std::filesystem::is_directory(p) || !p.has_filename())
-        throw SceneError(json_path, "'" + path + "' is not a file name the checkpoint can be written to; name a file, e.g. out/checkpoint.mrjam");
+        throw SceneError(
+            json_path,
+            "'" + path +
+                "' is not a file name the checkpoint can be written to; name a file, e.g. out/checkpoint.mrjam");
     const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
     prepare_output_directory(dir.string(), json_path);
     if (access(dir.c_str(), W_OK) != 0)
-        throw SceneError(json_path, "the directory " + dir.string() + " is not writable: the checkpoint could not be saved on Ctrl-C; "
-                                    "choose another path");
+        throw SceneError(json_path, "the directory " + dir.string() +
+                                        " is not writable: the checkpoint could not be saved on Ctrl-C; "
+                                        "choose another path");
 }
 
 void discard_checkpoint(const std::string& path) {
@@ -155,7 +160,8 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     install_interrupt_handler();
     prepare_output_directory(scene.output.directory, "/output/directory");
     const std::string checkpoint = checkpoint_path_of(scene);
-    check_checkpoint_path(checkpoint, scene.output.checkpoint_path.empty() ? "/output/directory" : "/output/checkpoint/path");
+    check_checkpoint_path(checkpoint,
+                          scene.output.checkpoint_path.empty() ? "/output/directory" : "/output/checkpoint/path");
 
     RunOutcome outcome;
     nlohmann::json& report = outcome.report;
@@ -294,10 +300,9 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     report["partial"] = status != "complete";
     report["results"] = state_summary(s);
     report["results"]["stages"] = stage_log;
-    report["performance"] = {
-        {"steps_run", steps_run},
-        {"grain_steps_per_s", grain_steps / std::max(wall, 1e-9)},
-        {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, grain_steps)}};
+    report["performance"] = {{"steps_run", steps_run},
+                             {"grain_steps_per_s", grain_steps / std::max(wall, 1e-9)},
+                             {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, grain_steps)}};
     report["wall_time_s"] = wall;
     if (!options.report_path.empty()) write_json_file(options.report_path, report);
     return outcome;

@@ -2,9 +2,8 @@
 // Executes a scene's protocol: stages in order, progress on stderr, snapshots, checkpoints,
 // interrupt handling, and the JSON report.
 #include <functional>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "io/checkpoint.hpp"
 #include "scene/scene.hpp"
@@ -12,9 +11,9 @@
 namespace mrjam {
 
 struct RunOptions {
-    std::string scene_path;       // echoed into the report
-    std::string report_path;      // where the report goes ("" for none)
-    bool progress = true;         // progress lines on stderr
+    std::string scene_path;   // echoed into the report
+    std::string report_path;  // where the report goes ("" for none)
+    bool progress = true;     // progress lines on stderr
     std::string mode = "run";
     // When resuming: the stage log the checkpoint carried (CheckpointHeader::history), so the
     // report and later checkpoints still list the stages finished before it. Null otherwise.
@@ -37,8 +36,8 @@ struct RunOutcome {
     int exit_status = 0;  // 0 complete, 130 interrupted (checkpoint written), 3 blow-up
 };
 
-// Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress samples). It must not change
-// the state. It receives the stage index and the step within the stage.
+// Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress samples). It must not
+// change the state. It receives the stage index and the step within the stage.
 using StepObserver = std::function<void(const System&, std::size_t stage, long step_in_stage)>;
 
 // Runs from `start` (the beginning, or a checkpoint's position after restore_state).

@@ -2,10 +2,9 @@
 // A scene read from its JSON file: the system to integrate and the protocol to run on it.
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "geometry/region.hpp"
 #include "io/snapshot.hpp"
@@ -23,18 +22,18 @@ using json = nlohmann::json;
 struct Stage {
     struct RaftForm {
         std::string name;
-        Region region;   // grains whose centres lie inside join the raft
+        Region region;  // grains whose centres lie inside join the raft
         Vec3 velocity;
     };
     std::string name;
-    long steps = -1;        // -1 until choose_timestep converts `duration`
-    double duration = 0;    // s, when the scene gave a duration instead of steps
-    std::string path;       // where the scene gave it: "/run" or "/stages/k"
+    long steps = -1;      // -1 until choose_timestep converts `duration`
+    double duration = 0;  // s, when the scene gave a duration instead of steps
+    std::string path;     // where the scene gave it: "/run" or "/stages/k"
     std::vector<RaftForm> form_rafts;
     std::vector<std::pair<std::string, Vec3>> raft_velocities;  // for rafts formed earlier
-    std::vector<std::string> release;                            // rafts whose grains go free
+    std::vector<std::string> release;                           // rafts whose grains go free
     std::vector<std::pair<std::string, Vec3>> wall_velocities;
-    std::shared_ptr<FlowField> flow;                             // null: keep the current flow
+    std::shared_ptr<FlowField> flow;  // null: keep the current flow
 };
 
 struct OutputPlan {
@@ -42,9 +41,9 @@ struct OutputPlan {
     bool snapshots = false;
     SnapshotFormat snapshot_format = SnapshotFormat::vtk_legacy;
     long snapshot_every = 0;
-    long checkpoint_every_steps = 0;   // 0: by wall time (below) and on interrupt only
+    long checkpoint_every_steps = 0;  // 0: by wall time (below) and on interrupt only
     double checkpoint_every_seconds = 600;
-    std::string checkpoint_path;       // empty: <directory>/checkpoint.mrjam
+    std::string checkpoint_path;  // empty: <directory>/checkpoint.mrjam
     double progress_interval_s = 5;
 };
 
@@ -55,11 +54,11 @@ struct Scene {
     std::uint64_t seed = 1;
     double characteristic_speed = 1.0;
     double timestep_safety = 0.1;
-    double requested_timestep = 0;  // 0: automatic
+    double requested_timestep = 0;                // 0: automatic
     double skin_fraction = kDefaultSkinFraction;  // Verlet skin as a fraction of the mean diameter
     TimestepLimits limits;
-    json resolved;                  // the scene with every default filled in, SI numbers
-    json fidelity;                  // the tier and the defaults it implied
+    json resolved;  // the scene with every default filled in, SI numbers
+    json fidelity;  // the tier and the defaults it implied
     std::vector<std::string> warnings;
     long total_steps() const;
 };
@@ -67,7 +66,7 @@ struct Scene {
 struct BuildOptions {
     bool insert_grains = true;  // false when a checkpoint supplies the grains
     int threads = 1;
-    std::string base_directory;  // relative file names in the scene (field maps) are taken from here
+    std::string base_directory;         // relative file names in the scene (field maps) are taken from here
     std::string fidelity = "standard";  // tier whose defaults apply (scene settings win)
 };
 

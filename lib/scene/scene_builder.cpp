@@ -7,8 +7,8 @@
 
 #include "geometry/disc_packing.hpp"
 #include "geometry/packing.hpp"
-#include "scene/scene.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_parts.hpp"
 #include "scene/scene_physics.hpp"
 #include "spatial_sort.hpp"
@@ -26,8 +26,9 @@ Region placement_region(SceneNode& place, const Domain& domain) {
     const Vec3 lo = region.bbox_lo(), hi = region.bbox_hi();
     for (int k = 0; k < 3; ++k)
         if (!domain.periodic[k] && (lo[k] < domain.lo[k] || hi[k] > domain.hi[k]))
-            place.fail("region", std::string("reaches outside the domain along ") + char('x' + k) + " (" + format_number(lo[k]) + " to " +
-                                     format_number(hi[k]) + " m against " + format_number(domain.lo[k]) + " to " + format_number(domain.hi[k]) +
+            place.fail("region", std::string("reaches outside the domain along ") + char('x' + k) + " (" +
+                                     format_number(lo[k]) + " to " + format_number(hi[k]) + " m against " +
+                                     format_number(domain.lo[k]) + " to " + format_number(domain.hi[k]) +
                                      " m), which is not periodic: keep it inside /domain");
     return region;
 }
@@ -44,8 +45,10 @@ Domain read_domain(SceneNode node) {
     if (mono != "none") {
         d.monolayer_normal = mono[0] - 'x';
         if (d.periodic[d.monolayer_normal])
-            node.fail("monolayer", "a monolayer's normal axis (" + mono + ") must not be periodic: the layer is one grain thick "
-                                   "and needs no images; drop " + mono + " from /domain/periodic");
+            node.fail("monolayer", "a monolayer's normal axis (" + mono +
+                                       ") must not be periodic: the layer is one grain thick "
+                                       "and needs no images; drop " +
+                                       mono + " from /domain/periodic");
     }
     node.finish();
     return d;
@@ -58,19 +61,24 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     SizeDistribution sizes = read_size_distribution(node.object("size"));
     SceneNode place = node.object("placement");
     const int mono = s.domain.monolayer_normal;
-    const std::string method = place.choice("method", {"random", "lattice", "list", "monolayer"}, mono >= 0 ? "monolayer" : "random");
+    const std::string method =
+        place.choice("method", {"random", "lattice", "list", "monolayer"}, mono >= 0 ? "monolayer" : "random");
     if (mono >= 0 && (method == "random" || method == "lattice"))
-        place.fail("method", "the domain is a monolayer (/domain/monolayer): place grains with \"monolayer\" (a random packing "
-                             "of discs in its plane) or \"list\"");
+        place.fail("method",
+                   "the domain is a monolayer (/domain/monolayer): place grains with \"monolayer\" (a random packing "
+                   "of discs in its plane) or \"list\"");
     if (mono < 0 && method == "monolayer")
-        place.fail("method", "\"monolayer\" placement needs a monolayer domain: set /domain/monolayer to the normal axis, e.g. \"y\"");
+        place.fail(
+            "method",
+            "\"monolayer\" placement needs a monolayer domain: set /domain/monolayer to the normal axis, e.g. \"y\"");
     // A grain must fit in the box on every axis; on a periodic axis it must also leave room for
     // the minimum image (checked with the neighbour cutoff in build_scene). A monolayer's
     // thickness may equal the largest diameter.
     for (int k = 0; k < 3; ++k)
         if (k == mono ? sizes.max_diameter() > s.domain.length()[k] : sizes.max_diameter() >= s.domain.length()[k])
-            node.fail("size", "the largest grain (" + format_number(sizes.max_diameter()) + " m) does not fit in the box (" +
-                                  format_number(s.domain.length()[k]) + " m along " + char('x' + k) + "); enlarge /domain");
+            node.fail("size", "the largest grain (" + format_number(sizes.max_diameter()) +
+                                  " m) does not fit in the box (" + format_number(s.domain.length()[k]) + " m along " +
+                                  char('x' + k) + "); enlarge /domain");
     const Vec3 spin = node.vector("angular_velocity", units::frequency, Vec3{});
     const Vec3 v0 = node.vector("velocity", units::velocity, Vec3{});
     const double random_speed = node.quantity("random_velocity", units::velocity, 0.0, Bounds::non_negative());
@@ -79,7 +87,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     if (method == "random") {
         const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
         if (phi > kRandomClosePacking)
-            place.fail("volume_fraction", "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
+            place.fail("volume_fraction",
+                       "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
         const Region region = placement_region(place, s.domain);
         PackingOptions opt;
         opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
@@ -91,7 +100,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
                 const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
                 spheres = r.spheres;
                 if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed volume fraction " + format_number(r.achieved_volume_fraction) +
+                    scene.warnings.push_back(node.path() + ": packed volume fraction " +
+                                             format_number(r.achieved_volume_fraction) +
                                              " differs from the requested " + format_number(phi));
             } catch (const std::exception& e) {
                 place.fail("volume_fraction", e.what());
@@ -100,7 +110,8 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     } else if (method == "monolayer") {
         const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
         if (phi > kRandomClosePackingDiscs)
-            place.fail("area_fraction", "cannot exceed random close packing of discs, " + format_number(kRandomClosePackingDiscs) +
+            place.fail("area_fraction", "cannot exceed random close packing of discs, " +
+                                            format_number(kRandomClosePackingDiscs) +
                                             "; lower it (0.5 is a loose monolayer)");
         PackingOptions opt;
         opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
@@ -110,8 +121,9 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
                 const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
                 spheres = r.discs;
                 if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed area fraction " + format_number(r.achieved_area_fraction) +
-                                             " differs from the requested " + format_number(phi));
+                    scene.warnings.push_back(node.path() + ": packed area fraction " +
+                                             format_number(r.achieved_area_fraction) + " differs from the requested " +
+                                             format_number(phi));
             } catch (const std::exception& e) {
                 place.fail("area_fraction", e.what());
             }
@@ -144,14 +156,16 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
             const Vec3 centre = item.vector(index, units::length, std::nullopt);
             // On a closed axis a centre outside the box is a grain the first step would stop on
             // as "left the box"; say so here, with the position's path.
-            if (mono >= 0 && std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) > 1e-9 * s.domain.length()[mono])
+            if (mono >= 0 && std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) >
+                                 1e-9 * s.domain.length()[mono])
                 item.fail(index, std::string("a monolayer's grains lie in its mid-plane: set the ") + char('x' + mono) +
-                                     " coordinate to " + format_number(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) + " m");
+                                     " coordinate to " + format_number(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) +
+                                     " m");
             for (int k = 0; k < 3; ++k)
                 if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
                     item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +
-                                         format_number(centre[k]) + " m, box " + format_number(s.domain.lo[k]) + " to " +
-                                         format_number(s.domain.hi[k]) + " m), which is not periodic");
+                                         format_number(centre[k]) + " m, box " + format_number(s.domain.lo[k]) +
+                                         " to " + format_number(s.domain.hi[k]) + " m), which is not periodic");
             spheres.push_back({centre, 0.5 * sizes.max_diameter()});
         }
         place.finish();
@@ -191,8 +205,9 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
             if (!(overlap / s.particles.radius[i] > s.max_overlap_fraction)) continue;
             const std::size_t b = batch_of(i);
             throw SceneError("/walls/" + std::to_string(w),
-                             "wall '" + s.walls[w].name + "' cuts through grain " + std::to_string(i - (b == 0 ? 0 : batch_end[b - 1])) +
-                                 " of /grains/" + std::to_string(b) + " (overlap " + format_number(overlap / s.particles.radius[i]) +
+                             "wall '" + s.walls[w].name + "' cuts through grain " +
+                                 std::to_string(i - (b == 0 ? 0 : batch_end[b - 1])) + " of /grains/" +
+                                 std::to_string(b) + " (overlap " + format_number(overlap / s.particles.radius[i]) +
                                  " of its radius): keep the grains' region or positions clear of the wall");
         }
     if (n < 2) return;
@@ -210,12 +225,19 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
             const std::size_t j = list.partners[k];
             const Vec3 d = p.position[i] - p.position[j] + list.image_shift(list.image[k]);
             const double ratio = (p.radius[i] + p.radius[j] - norm(d)) / std::min(p.radius[i], p.radius[j]);
-            if (ratio > worst) { worst = ratio; wi = i; wj = j; }
+            if (ratio > worst) {
+                worst = ratio;
+                wi = i;
+                wj = j;
+            }
         }
     }
     if (!(worst > s.max_overlap_fraction)) return;
     std::size_t bi = batch_of(wi), bj = batch_of(wj);
-    if (bi > bj) { std::swap(bi, bj); std::swap(wi, wj); }
+    if (bi > bj) {
+        std::swap(bi, bj);
+        std::swap(wi, wj);
+    }
     const std::string ratio = format_number(worst), limit = format_number(s.max_overlap_fraction);
     if (bi != bj)
         throw SceneError("/grains/" + std::to_string(bj) + "/placement",
@@ -226,17 +248,18 @@ void check_initial_overlaps(const System& s, const std::vector<std::size_t>& bat
     const std::size_t first = bi == 0 ? 0 : batch_end[bi - 1];
     throw SceneError("/grains/" + std::to_string(bi) + "/placement",
                      "grains " + std::to_string(wi - first) + " and " + std::to_string(wj - first) +
-                         " of this batch overlap by " + ratio + " of the smaller radius, above run.max_overlap_fraction (" +
-                         limit + "); move them apart, or for a random placement lower its overlap_tolerance");
+                         " of this batch overlap by " + ratio +
+                         " of the smaller radius, above run.max_overlap_fraction (" + limit +
+                         "); move them apart, or for a random placement lower its overlap_tolerance");
 }
 
 // `formed`: the rafts formed by the stages before this one (a released raft keeps its name and may
 // be formed again); a stage releases, then forms, then sets velocities (lib/run/runner.cpp).
-Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names, std::set<std::string>& formed) {
+Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::string>& wall_names,
+                 std::set<std::string>& formed) {
     Stage st;
     st.name = node.text("name", "stage");
-    if (node.has("steps") == node.has("duration"))
-        node.fail("steps", "give exactly one of 'steps' or 'duration'");
+    if (node.has("steps") == node.has("duration")) node.fail("steps", "give exactly one of 'steps' or 'duration'");
     if (node.has("steps")) {
         st.steps = node.integer("steps", std::nullopt, 0);
     } else {
@@ -249,7 +272,8 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
             if (!r.is_string()) node.fail("release", "expected an array of raft names");
             st.release.push_back(r.get<std::string>());
             if (!formed.contains(st.release.back()))
-                node.fail("release", "no earlier stage forms a raft named '" + st.release.back() + "'; name one of form_rafts");
+                node.fail("release",
+                          "no earlier stage forms a raft named '" + st.release.back() + "'; name one of form_rafts");
         }
     }
     std::set<std::string> formed_here;
@@ -267,13 +291,15 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     }
     formed.insert(formed_here.begin(), formed_here.end());
     for (auto r : node.objects("raft_velocities")) {
-        st.raft_velocities.emplace_back(r.text("name", std::nullopt), r.vector("velocity", units::velocity, std::nullopt));
+        st.raft_velocities.emplace_back(r.text("name", std::nullopt),
+                                        r.vector("velocity", units::velocity, std::nullopt));
         if (!formed.contains(st.raft_velocities.back().first))
             r.fail("name", "no raft of this name is formed by this stage or an earlier one; name one of form_rafts");
         r.finish();
     }
     for (auto w : node.objects("wall_velocities")) {
-        const std::string name = w.choice("name", wall_names.empty() ? std::vector<std::string>{"(no walls)"} : wall_names, std::nullopt);
+        const std::string name =
+            w.choice("name", wall_names.empty() ? std::vector<std::string>{"(no walls)"} : wall_names, std::nullopt);
         st.wall_velocities.emplace_back(name, w.vector("velocity", units::velocity, std::nullopt));
         w.finish();
     }
@@ -334,8 +360,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     s.pairs = PairTable(s.materials);
     for (auto pair : root.objects("material_pairs")) read_material_pair(pair, names, s.pairs);
 
-    if (auto c = root.optional_object("contact")) read_contact(*c, s.physics);
-    else { json in = json::object(); read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics); }
+    if (auto c = root.optional_object("contact"))
+        read_contact(*c, s.physics);
+    else {
+        json in = json::object();
+        read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics);
+    }
 
     if (auto f = root.optional_object("fluid")) {
         s.physics.drag = true;
@@ -372,7 +402,8 @@ Scene build_scene(const json& input, const BuildOptions& options) {
 
     SceneNode run = root.object("run");
     scene.characteristic_speed = run.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
-    scene.timestep_safety = run.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, kMaxStepFraction));
+    scene.timestep_safety =
+        run.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, kMaxStepFraction));
     if (run.has("timestep") && run.raw("timestep").is_string() && run.raw("timestep").get<std::string>() == "auto") {
         scene.requested_timestep = 0;
     } else {
@@ -407,9 +438,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         Stage st;
         st.name = "run";
         st.path = "/run";
-        if (run.has("steps") == run.has("duration")) run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
-        if (run.has("steps")) st.steps = run.integer("steps", std::nullopt, 0);
-        else st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
+        if (run.has("steps") == run.has("duration"))
+            run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
+        if (run.has("steps"))
+            st.steps = run.integer("steps", std::nullopt, 0);
+        else
+            st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
         scene.stages.push_back(std::move(st));
     } else {
         std::set<std::string> formed;
@@ -419,8 +453,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         }
     }
     run.finish();
-    if (auto out = root.optional_object("output")) read_output(*out, scene.output);
-    else { json in = json::object(); read_output(SceneNode(in, scene.resolved["output"], "/output"), scene.output); }
+    if (auto out = root.optional_object("output"))
+        read_output(*out, scene.output);
+    else {
+        json in = json::object();
+        read_output(SceneNode(in, scene.resolved["output"], "/output"), scene.output);
+    }
     root.finish();
     return scene;
 }
@@ -430,26 +468,34 @@ void choose_timestep(Scene& scene) {
     Particles& p = s.particles;
     if (p.size() == 0) throw SceneError("/grains", "no grains were placed; check the placement regions and sizes");
     double r_sum = 0, r_max = 0;
-    for (double r : p.radius) { r_sum += r; r_max = std::max(r_max, r); }
+    for (double r : p.radius) {
+        r_sum += r;
+        r_max = std::max(r_max, r);
+    }
     const double skin = scene.skin_fraction * 2.0 * r_sum / p.size();
     s.contacts = NeighborList(NeighborList::Settings{skin, 1.0, true});
     for (int k = 0; k < 3; ++k)
         if (s.domain.periodic[k] && s.contacts.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
-            throw SceneError("/domain/hi", "the box is too short along the periodic axis " + std::string(1, char('x' + k)) +
-                                               ": it must be more than twice the neighbour cutoff of the largest grains (" +
-                                               format_number(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
+            throw SceneError("/domain/hi",
+                             "the box is too short along the periodic axis " + std::string(1, char('x' + k)) +
+                                 ": it must be more than twice the neighbour cutoff of the largest grains (" +
+                                 format_number(2 * s.contacts.pair_cutoff(r_max, r_max)) + " m)");
 
     if (s.magnetic.enabled) {
         const MagneticSettings& ms = s.magnetic.settings;
         s.magnetic.pairs = NeighborList(NeighborList::Settings{skin, ms.cutoff_scale, false, ms.cutoff_extra});
         if (s.magnetic.pairs.interaction_range(r_max, r_max) < 2 * r_max)
-            throw SceneError("/magnetic/cutoff", "the magnetic range (" + format_number(s.magnetic.pairs.interaction_range(r_max, r_max)) +
-                                                     " m for the largest grains) is shorter than contact; it must reach at least the touching neighbours");
+            throw SceneError("/magnetic/cutoff", "the magnetic range (" +
+                                                     format_number(s.magnetic.pairs.interaction_range(r_max, r_max)) +
+                                                     " m for the largest grains) is shorter than contact; it must "
+                                                     "reach at least the touching neighbours");
         for (int k = 0; k < 3; ++k)
             if (s.domain.periodic[k] && s.magnetic.pairs.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
                 throw SceneError("/magnetic/cutoff", "the magnetic cutoff of the largest grains (" +
-                                                         format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max)) + " m with the skin) exceeds half the periodic box along " +
-                                                         std::string(1, char('x' + k)) + "; shorten the cutoff or enlarge the box");
+                                                         format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max)) +
+                                                         " m with the skin) exceeds half the periodic box along " +
+                                                         std::string(1, char('x' + k)) +
+                                                         "; shorten the cutoff or enlarge the box");
         s.magnetic.any_permanent = false;
         for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
         if (ms.close_pairs.enabled) build_close_pair_table(s, r_max);
@@ -459,16 +505,18 @@ void choose_timestep(Scene& scene) {
     scene.limits = timestep_limits(s, scene.characteristic_speed);
     if (scene.requested_timestep > 0) {
         if (scene.requested_timestep > scene.limits.stable_limit)
-            throw SceneError("/run/timestep", "the requested step " + format_number(scene.requested_timestep) +
-                                                  " s is above the stable limit " + format_number(scene.limits.stable_limit) + " s (" +
-                                                  format_number(kMaxStepFraction) + " of the " + scene.limits.limiting + ", " +
-                                                  format_number(scene.limits.critical) + " s); use a shorter step or \"auto\"");
+            throw SceneError("/run/timestep",
+                             "the requested step " + format_number(scene.requested_timestep) +
+                                 " s is above the stable limit " + format_number(scene.limits.stable_limit) + " s (" +
+                                 format_number(kMaxStepFraction) + " of the " + scene.limits.limiting + ", " +
+                                 format_number(scene.limits.critical) + " s); use a shorter step or \"auto\"");
         s.dt = scene.requested_timestep;
     } else {
         // Nothing that moves on its own time scale (no contact law, drag or damping): no limit.
         if (!std::isfinite(scene.limits.critical))
-            throw SceneError("/run/timestep", "nothing in this scene limits the time step (no contact model, drag or pair "
-                                              "damping): give an explicit step, e.g. \"1 us\"");
+            throw SceneError("/run/timestep",
+                             "nothing in this scene limits the time step (no contact model, drag or pair "
+                             "damping): give an explicit step, e.g. \"1 us\"");
         s.dt = scene.timestep_safety * scene.limits.critical;
     }
     scene.resolved["run"]["timestep_used"] = s.dt;
@@ -480,8 +528,10 @@ void choose_timestep(Scene& scene) {
         const double steps = std::ceil(st.duration / s.dt - 1e-9);
         if (!(steps <= kMaxSteps))
             throw SceneError(st.path + "/duration",
-                             "needs " + format_number(steps) + " steps of " + format_number(s.dt) + " s, more than " + format_number(kMaxSteps) +
-                                 ": check the duration's units, or the materials' that set the step (" + scene.limits.limiting + ")");
+                             "needs " + format_number(steps) + " steps of " + format_number(s.dt) + " s, more than " +
+                                 format_number(kMaxSteps) +
+                                 ": check the duration's units, or the materials' that set the step (" +
+                                 scene.limits.limiting + ")");
         st.steps = std::max(1L, static_cast<long>(steps));
     }
 }

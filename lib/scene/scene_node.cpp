@@ -29,8 +29,7 @@ std::string Bounds::describe() const {
     return s.str();
 }
 
-SceneNode::SceneNode(const json& in, json& out, std::string path)
-    : in_(&in), out_(&out), path_(std::move(path)) {
+SceneNode::SceneNode(const json& in, json& out, std::string path) : in_(&in), out_(&out), path_(std::move(path)) {
     if (!in_->is_object()) throw SceneError(path_.empty() ? "/" : path_, "expected a JSON object");
     if (!out_->is_object()) *out_ = json::object();
 }
@@ -74,7 +73,8 @@ void SceneNode::fail(const std::string& key, const std::string& message) const {
     if (!in_->contains(key)) {
         for (auto it = in_->begin(); it != in_->end(); ++it) {
             if (seen_.count(it.key()) || !looks_like(it.key(), key)) continue;
-            text += "; the scene has " + path_of(it.key()) + ", not a known key here: a misspelling of \"" + key + "\"?";
+            text +=
+                "; the scene has " + path_of(it.key()) + ", not a known key here: a misspelling of \"" + key + "\"?";
             break;
         }
     }
@@ -93,12 +93,12 @@ const json& SceneNode::raw(const std::string& key) {
     return v;
 }
 
-double SceneNode::quantity(const std::string& key, const units::Dimension& dim,
-                           std::optional<double> fallback, Bounds bounds) {
+double SceneNode::quantity(const std::string& key, const units::Dimension& dim, std::optional<double> fallback,
+                           Bounds bounds) {
     double value;
     if (!has(key)) {
-        if (!fallback) fail(key, "required key is missing (a number in SI or a string with units, " +
-                                     units::describe(dim) + ")");
+        if (!fallback)
+            fail(key, "required key is missing (a number in SI or a string with units, " + units::describe(dim) + ")");
         value = *fallback;
     } else {
         const json& v = at(key);
@@ -127,8 +127,7 @@ double SceneNode::number(const std::string& key, std::optional<double> fallback,
     return quantity(key, units::dimensionless, fallback, bounds);
 }
 
-long long SceneNode::integer(const std::string& key, std::optional<long long> fallback, long long lo,
-                             long long hi) {
+long long SceneNode::integer(const std::string& key, std::optional<long long> fallback, long long lo, long long hi) {
     long long value;
     if (!has(key)) {
         if (!fallback) fail(key, "required key is missing (an integer)");
@@ -145,8 +144,8 @@ long long SceneNode::integer(const std::string& key, std::optional<long long> fa
         }
     }
     if (value < lo || value > hi)
-        fail(key, "value " + format_number(value) + " is out of range; expected in [" + format_number(lo) +
-                      ", " + format_number(hi) + "]");
+        fail(key, "value " + format_number(value) + " is out of range; expected in [" + format_number(lo) + ", " +
+                      format_number(hi) + "]");
     record(key, value);
     return value;
 }
@@ -209,8 +208,7 @@ Vec3 SceneNode::vector(const std::string& key, const units::Dimension& dim, std:
     return value;
 }
 
-std::vector<double> SceneNode::quantity_list(const std::string& key, const units::Dimension& dim,
-                                             Bounds bounds) {
+std::vector<double> SceneNode::quantity_list(const std::string& key, const units::Dimension& dim, Bounds bounds) {
     if (!has(key)) fail(key, "required key is missing (an array)");
     const json& v = at(key);
     if (!v.is_array() || v.empty()) fail(key, "expected a non-empty array");
@@ -235,7 +233,8 @@ std::vector<bool> SceneNode::axis_flags(const std::string& key, std::optional<st
         if (v.is_string()) {
             for (char c : v.get<std::string>()) {
                 if (c < 'x' || c > 'z') fail(key, "expected axis letters from \"xyz\", e.g. \"xy\"");
-                if (flags[c - 'x']) fail(key, std::string("names axis ") + c + " twice; give each axis once, e.g. \"xy\"");
+                if (flags[c - 'x'])
+                    fail(key, std::string("names axis ") + c + " twice; give each axis once, e.g. \"xy\"");
                 flags[c - 'x'] = true;
             }
         } else if (v.is_array() && v.size() == 3 && v[0].is_boolean() && v[1].is_boolean() && v[2].is_boolean()) {
@@ -291,9 +290,9 @@ void SceneNode::finish() const {
             known += (known.empty() ? "" : ", ") + k;
             if (guess.empty() && looks_like(it.key(), k)) guess = k;
         }
-        throw SceneError(path_of(it.key()), "unknown key" + (guess.empty() ? std::string() : " (did you mean \"" + guess + "\"?)") +
-                                                (known.empty() ? std::string() : "; known keys here: " + known) +
-                                                " (see docs/scene.md)");
+        throw SceneError(path_of(it.key()),
+                         "unknown key" + (guess.empty() ? std::string() : " (did you mean \"" + guess + "\"?)") +
+                             (known.empty() ? std::string() : "; known keys here: " + known) + " (see docs/scene.md)");
     }
 }
 

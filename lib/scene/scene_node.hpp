@@ -4,13 +4,12 @@
 // copy so the report is a complete recipe. finish() refuses keys nobody asked for, so a typo
 // never passes silently.
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/vec3.hpp"
 #include "scene/units.hpp"
@@ -84,7 +83,10 @@ public:
     std::vector<SceneNode> objects(const std::string& key, bool required = false);
 
     // The resolved (echoed) value of a key, for defaults that are whole objects.
-    json& resolved_child(const std::string& key) { seen_.insert(key); return (*out_)[key]; }
+    json& resolved_child(const std::string& key) {
+        seen_.insert(key);
+        return (*out_)[key];
+    }
 
     // The raw value for pass-through data (e.g. a table), marked as read.
     const json& raw(const std::string& key);

@@ -28,8 +28,10 @@ Material read_material(SceneNode node) {
     m.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative());
     m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::non_negative());
     m.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7));
-    m.saturation_magnetisation = node.quantity("saturation_magnetisation", units::magnetic_field, 1.7e6, Bounds::positive());
-    m.remanent_magnetisation = node.quantity("remanent_magnetisation", units::magnetic_field, 0.0, Bounds::non_negative());
+    m.saturation_magnetisation =
+        node.quantity("saturation_magnetisation", units::magnetic_field, 1.7e6, Bounds::positive());
+    m.remanent_magnetisation =
+        node.quantity("remanent_magnetisation", units::magnetic_field, 0.0, Bounds::non_negative());
     if (node.has("remanence_direction") && node.raw("remanence_direction").is_array()) {
         const Vec3 d = node.vector("remanence_direction", units::dimensionless, std::nullopt);
         if (norm(d) == 0) node.fail("remanence_direction", "must be a non-zero vector, or \"random\"");
@@ -53,7 +55,8 @@ void read_material_pair(SceneNode node, const std::vector<std::string>& names, P
     for (int k = 0; k < 2; ++k) {
         const auto it = std::find(names.begin(), names.end(), list[k].get<std::string>());
         if (it == names.end())
-            node.fail("materials", "names no material called \"" + list[k].get<std::string>() + "\"; define it in /materials");
+            node.fail("materials",
+                      "names no material called \"" + list[k].get<std::string>() + "\"; define it in /materials");
         index[k] = static_cast<std::uint16_t>(it - names.begin());
     }
     PairCoefficients c = pairs(index[0], index[1]);
@@ -70,9 +73,12 @@ void read_contact(SceneNode node, PhysicsSettings& ph) {
     const std::string rolling = node.choice("rolling", {"none", "epsd", "sds"}, "none");
     ph.rolling = rolling == "epsd" ? RollingModel::epsd : rolling == "sds" ? RollingModel::sds : RollingModel::none;
     const std::string cohesion = node.choice("cohesion", {"none", "sjkr", "dmt"}, "none");
-    ph.cohesion = cohesion == "sjkr" ? CohesionModel::sjkr : cohesion == "dmt" ? CohesionModel::dmt : CohesionModel::none;
+    ph.cohesion = cohesion == "sjkr"  ? CohesionModel::sjkr
+                  : cohesion == "dmt" ? CohesionModel::dmt
+                                      : CohesionModel::none;
     ph.pair_damping = node.quantity("pair_damping", units::damping, 0.0, Bounds::non_negative());
-    if (ph.pair_damping > 0 && !ph.contact) node.fail("pair_damping", "acts between touching grains: it needs the hertz_mindlin contact model");
+    if (ph.pair_damping > 0 && !ph.contact)
+        node.fail("pair_damping", "acts between touching grains: it needs the hertz_mindlin contact model");
     node.finish();
 }
 
@@ -104,16 +110,21 @@ void build_close_pair_table(System& s, double r_max) {
         r_min = std::min(r_min, p.radius[i]);
         if (p.induced_coefficient[i] <= 0) continue;
         const double b = p.induced_coefficient[i] / (4.0 * M_PI * std::pow(p.radius[i], 3));
-        if (beta < 0) beta = b;
+        if (beta < 0)
+            beta = b;
         else if (std::abs(b - beta) > 1e-9 * beta)
-            throw SceneError("/magnetic/close_pairs", "the correction is tabulated for one permeability, and the grains' "
-                                                      "materials differ in relative_permeability; give them one, or drop close_pairs");
+            throw SceneError("/magnetic/close_pairs",
+                             "the correction is tabulated for one permeability, and the grains' "
+                             "materials differ in relative_permeability; give them one, or drop close_pairs");
     }
-    if (beta <= 0) throw SceneError("/magnetic/close_pairs", "no grain is magnetisable (relative_permeability 1); drop close_pairs");
+    if (beta <= 0)
+        throw SceneError("/magnetic/close_pairs",
+                         "no grain is magnetisable (relative_permeability 1); drop close_pairs");
     const ClosePairSettings& cs = s.magnetic.settings.close_pairs;
     for (double r : {r_min, r_max})
         if (s.magnetic.pairs.interaction_range(r, r) < (2.0 + cs.range) * r)
-            throw SceneError("/magnetic/close_pairs/range", "the magnetic cutoff does not reach a gap of " + format_number(cs.range) +
+            throw SceneError("/magnetic/close_pairs/range", "the magnetic cutoff does not reach a gap of " +
+                                                                format_number(cs.range) +
                                                                 " radii; lengthen the cutoff or shorten the range");
     s.magnetic.close_pair_table = ClosePairTable((1.0 + 2.0 * beta) / (1.0 - beta), cs);
 }
@@ -127,19 +138,22 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
         const Vec3 b = field.vector("flux_density", units::magnetic_flux_density, std::nullopt);
         const double on = field.quantity("switch_on", units::time, 0.0, Bounds::non_negative());
         const double ramp = field.quantity("ramp", units::time, 0.0, Bounds::non_negative());
-        const double off = field.quantity("switch_off", units::time, std::numeric_limits<double>::max(), Bounds::positive());
+        const double off =
+            field.quantity("switch_off", units::time, std::numeric_limits<double>::max(), Bounds::positive());
         if (!(off > on)) field.fail("switch_off", "must come after switch_on");
         mag.field = std::make_shared<UniformField>(b, on, ramp, off);
     } else {
         std::string file = field.text("file", std::nullopt);
-        if (!file.empty() && file[0] != '/' && !options.base_directory.empty()) file = options.base_directory + "/" + file;
+        if (!file.empty() && file[0] != '/' && !options.base_directory.empty())
+            file = options.base_directory + "/" + file;
         // Absolute as resolved, so a checkpoint resumed from another directory finds the same map.
         if (!file.empty()) file = std::filesystem::absolute(file).lexically_normal().string();
         field.resolved_child("file") = file;
         const double scale = field.number("scale", 1.0, Bounds::any());
         if (!std::filesystem::exists(file))
-            field.fail("file", "no field map at " + file + " (the format, a text grid of B, is in docs/scene.md under "
-                                                           "\"Magnetic forces\"; a relative path is taken from the scene file's folder)");
+            field.fail("file", "no field map at " + file +
+                                   " (the format, a text grid of B, is in docs/scene.md under "
+                                   "\"Magnetic forces\"; a relative path is taken from the scene file's folder)");
         try {
             mag.field = std::make_shared<FieldMap>(FieldMap::read(file, scale));
         } catch (const std::exception& e) {
@@ -148,15 +162,18 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     }
     field.finish();
     MagneticSettings& st = mag.settings;
-    const std::string policy = node.choice("mutual", {"fixed", "lagged", "iterations", "converged"},
-                                           policy_name(tier.magnetic_policy));
-    st.policy = policy == "fixed" ? MutualPolicy::fixed : policy == "lagged" ? MutualPolicy::lagged
-              : policy == "iterations" ? MutualPolicy::iterations : MutualPolicy::converged;
+    const std::string policy =
+        node.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, policy_name(tier.magnetic_policy));
+    st.policy = policy == "fixed"        ? MutualPolicy::fixed
+                : policy == "lagged"     ? MutualPolicy::lagged
+                : policy == "iterations" ? MutualPolicy::iterations
+                                         : MutualPolicy::converged;
     // Each policy's own settings. A new scene giving another policy's (iterations with
     // "lagged") is refused: it would be silently ignored. A checkpoint's resolved scene, written
     // before this check, records all three, so there they are read and left unused.
     const bool counted = st.policy == MutualPolicy::iterations, converged = st.policy == MutualPolicy::converged;
-    for (const auto& [key, owner] : {std::pair{"iterations", "iterations"}, {"tolerance", "converged"}, {"max_iterations", "converged"}})
+    for (const auto& [key, owner] :
+         {std::pair{"iterations", "iterations"}, {"tolerance", "converged"}, {"max_iterations", "converged"}})
         if (policy != owner && node.has(key) && options.insert_grains)
             node.fail(key, std::string("is used only by \"mutual\": \"") + owner + "\", not \"" + policy +
                                "\"; drop it, or choose \"" + owner + "\"");

@@ -43,9 +43,9 @@ const std::map<std::string, UnitDef>& unit_table() {
 }
 
 double prefix_scale(const std::string& p) {
-    static const std::map<std::string, double> prefixes = {
-        {"p", 1e-12}, {"n", 1e-9}, {"u", 1e-6}, {"\u00b5", 1e-6}, {"\u03bc", 1e-6}, {"m", 1e-3},
-        {"c", 1e-2},  {"d", 1e-1}, {"k", 1e3},  {"M", 1e6},       {"G", 1e9}};
+    static const std::map<std::string, double> prefixes = {{"p", 1e-12},     {"n", 1e-9}, {"u", 1e-6}, {"\u00b5", 1e-6},
+                                                           {"\u03bc", 1e-6}, {"m", 1e-3}, {"c", 1e-2}, {"d", 1e-1},
+                                                           {"k", 1e3},       {"M", 1e6},  {"G", 1e9}};
     auto it = prefixes.find(p);
     return it == prefixes.end() ? 0.0 : it->second;
 }
@@ -59,8 +59,8 @@ Quantity power(const UnitDef& u, double scale, int exponent) {
 // One factor such as "um", "m3", "s^-1", "kg".
 Quantity parse_factor(const std::string& token, const std::string& whole) {
     std::size_t split = token.size();
-    while (split > 0 && (std::isdigit(static_cast<unsigned char>(token[split - 1])) ||
-                         token[split - 1] == '-' || token[split - 1] == '^'))
+    while (split > 0 && (std::isdigit(static_cast<unsigned char>(token[split - 1])) || token[split - 1] == '-' ||
+                         token[split - 1] == '^'))
         --split;
     std::string symbol = token.substr(0, split);
     std::string exp_text = token.substr(split);
@@ -69,8 +69,7 @@ Quantity parse_factor(const std::string& token, const std::string& whole) {
     if (!exp_text.empty()) {
         char* end = nullptr;
         exponent = static_cast<int>(std::strtol(exp_text.c_str(), &end, 10));
-        if (*end != '\0' || exponent == 0)
-            throw UnitError("bad power '" + token + "' in \"" + whole + "\"");
+        if (*end != '\0' || exponent == 0) throw UnitError("bad power '" + token + "' in \"" + whole + "\"");
     }
     const auto& table = unit_table();
     if (auto it = table.find(symbol); it != table.end()) return power(it->second, 1.0, exponent);
@@ -140,8 +139,7 @@ double parse_as(const std::string& text, const Dimension& expected) {
     const Quantity q = parse(text);
     // J/m2 and N/m share base units with stiffness; dimension equality is all that matters.
     if (!(q.dimension == expected))
-        throw UnitError("\"" + text + "\" has units of " + describe(q.dimension) + ", expected " +
-                        describe(expected));
+        throw UnitError("\"" + text + "\" has units of " + describe(q.dimension) + ", expected " + describe(expected));
     return q.value;
 }
 

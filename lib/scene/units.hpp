@@ -18,17 +18,17 @@ inline constexpr Dimension dimensionless{{0, 0, 0, 0}};
 inline constexpr Dimension length{{1, 0, 0, 0}};
 inline constexpr Dimension mass{{0, 1, 0, 0}};
 inline constexpr Dimension time{{0, 0, 1, 0}};
-inline constexpr Dimension frequency{{0, 0, -1, 0}};     // also shear rate, 1/s
+inline constexpr Dimension frequency{{0, 0, -1, 0}};  // also shear rate, 1/s
 inline constexpr Dimension velocity{{1, 0, -1, 0}};
 inline constexpr Dimension acceleration{{1, 0, -2, 0}};
 inline constexpr Dimension force{{1, 1, -2, 0}};
-inline constexpr Dimension pressure{{-1, 1, -2, 0}};     // also stress, modulus, J/m3
+inline constexpr Dimension pressure{{-1, 1, -2, 0}};  // also stress, modulus, J/m3
 inline constexpr Dimension energy{{2, 1, -2, 0}};
 inline constexpr Dimension surface_energy{{0, 1, -2, 0}};  // J/m2 = N/m
 inline constexpr Dimension stiffness{{0, 1, -2, 0}};       // N/m, same base units as J/m2
 inline constexpr Dimension density{{-3, 1, 0, 0}};
-inline constexpr Dimension viscosity{{-1, 1, -1, 0}};      // Pa s
-inline constexpr Dimension damping{{0, 1, -1, 0}};         // N s/m
+inline constexpr Dimension viscosity{{-1, 1, -1, 0}};              // Pa s
+inline constexpr Dimension damping{{0, 1, -1, 0}};                 // N s/m
 inline constexpr Dimension magnetic_flux_density{{0, 1, -2, -1}};  // tesla
 inline constexpr Dimension magnetic_field{{-1, 0, 0, 1}};          // A/m, also magnetisation
 inline constexpr Dimension magnetic_moment{{2, 0, 0, 1}};          // A m^2

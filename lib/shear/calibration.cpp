@@ -19,7 +19,8 @@ FlowPoint point_of(const nlohmann::json& e, const std::string& where) {
     } else if (e.is_object() && e.contains("rate") && e.contains("stress")) {
         p = {e["rate"].get<double>(), e["stress"].get<double>(), e.value("error", 0.0)};
     } else {
-        throw SceneError("--calibrate", where + ": expected [shear rate in 1/s, stress in Pa] or {\"rate\", \"stress\"}");
+        throw SceneError("--calibrate",
+                         where + ": expected [shear rate in 1/s, stress in Pa] or {\"rate\", \"stress\"}");
     }
     return p;
 }
@@ -64,12 +65,16 @@ CalibrationData read_calibration_data(const std::string& path) {
         }
         const nlohmann::json* list = &j;
         if (j.is_object()) {
-            if (j.contains("points")) list = &j["points"];
-            else if (j.contains("flow_curve")) list = &j["flow_curve"];
-            else throw SceneError("--calibrate", path + ": expected a list of points, or an object with \"points\"");
+            if (j.contains("points"))
+                list = &j["points"];
+            else if (j.contains("flow_curve"))
+                list = &j["flow_curve"];
+            else
+                throw SceneError("--calibrate", path + ": expected a list of points, or an object with \"points\"");
         }
         if (!list->is_array()) throw SceneError("--calibrate", path + ": the points must be a list");
-        for (std::size_t k = 0; k < list->size(); ++k) d.points.push_back(point_of((*list)[k], path + " entry " + std::to_string(k)));
+        for (std::size_t k = 0; k < list->size(); ++k)
+            d.points.push_back(point_of((*list)[k], path + " entry " + std::to_string(k)));
     } else {
         std::istringstream lines(text);
         std::string line;
@@ -84,7 +89,8 @@ CalibrationData read_calibration_data(const std::string& path) {
             double a, b, c = 0;
             if (!(fields >> a >> b)) {
                 if (d.points.empty()) continue;  // a header line
-                throw SceneError("--calibrate", path + " line " + std::to_string(number) + ": expected shear rate and stress");
+                throw SceneError("--calibrate",
+                                 path + " line " + std::to_string(number) + ": expected shear rate and stress");
             }
             if (!(fields >> c)) c = 0;
             d.points.push_back({a, b, c});
@@ -95,9 +101,11 @@ CalibrationData read_calibration_data(const std::string& path) {
     return d;
 }
 
-std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items, const ShearSpec& spec) {
+std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items,
+                                                               const ShearSpec& spec) {
     if (items.empty() || items.size() > 2)
-        throw SceneError("--parameter", "give one or two parameters to fit, as NAME=MIN:MAX (e.g. rolling_friction=0.02:0.4)");
+        throw SceneError("--parameter",
+                         "give one or two parameters to fit, as NAME=MIN:MAX (e.g. rolling_friction=0.02:0.4)");
     std::vector<CalibrationParameter> out;
     for (const auto& item : items) {
         const auto eq = item.find('='), colon = item.find(':', eq == std::string::npos ? 0 : eq);
@@ -115,13 +123,15 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
                 used = 0;
             }
             if (used == 0 || used != text.size() || !std::isfinite(v))
-                throw SceneError("--parameter", "'" + item + "': MIN and MAX must be plain numbers in SI units, not '" + text + "'");
+                throw SceneError("--parameter",
+                                 "'" + item + "': MIN and MAX must be plain numbers in SI units, not '" + text + "'");
             return v;
         };
         p.lo = number(item.substr(eq + 1, colon - eq - 1));
         p.hi = number(item.substr(colon + 1));
         if (!(p.hi > p.lo)) throw SceneError("--parameter", "'" + item + "': MAX must exceed MIN");
-        const std::vector<std::string> material = {"rolling_friction", "friction", "rolling_damping", "cohesion_energy_density",
+        const std::vector<std::string> material = {"rolling_friction",      "friction",
+                                                   "rolling_damping",       "cohesion_energy_density",
                                                    "relative_permeability", "restitution"};
         if (p.name == "field_scale") {
             if (!(p.lo > 0)) throw SceneError("--parameter", "field_scale must be positive");
@@ -134,13 +144,16 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
             try {
                 present = spec.input.contains(nlohmann::json::json_pointer(p.pointer));
             } catch (const nlohmann::json::exception&) {
-                throw SceneError("--parameter", p.pointer + " is not a valid JSON pointer (escape ~ as ~0 and / as ~1)");
+                throw SceneError("--parameter",
+                                 p.pointer + " is not a valid JSON pointer (escape ~ as ~0 and / as ~1)");
             }
             if (!present) throw SceneError("--parameter", p.pointer + " is not a key of the shear scene");
         } else {
-            throw SceneError("--parameter", "unknown parameter '" + p.name +
-                                                "'; use rolling_friction, friction, rolling_damping, cohesion_energy_density, "
-                                                "relative_permeability, restitution, field_scale or a JSON pointer such as /material/friction");
+            throw SceneError(
+                "--parameter",
+                "unknown parameter '" + p.name +
+                    "'; use rolling_friction, friction, rolling_damping, cohesion_energy_density, "
+                    "relative_permeability, restitution, field_scale or a JSON pointer such as /material/friction");
         }
         out.push_back(p);
     }
@@ -153,8 +166,10 @@ namespace {
 nlohmann::json with_values(nlohmann::json input, const ShearSpec& spec, const std::vector<CalibrationParameter>& params,
                            const std::vector<double>& x) {
     for (std::size_t k = 0; k < params.size(); ++k) {
-        if (params[k].pointer.empty()) input["field"]["flux_density"] = spec.flux_density * x[k];
-        else input[nlohmann::json::json_pointer(params[k].pointer)] = x[k];
+        if (params[k].pointer.empty())
+            input["field"]["flux_density"] = spec.flux_density * x[k];
+        else
+            input[nlohmann::json::json_pointer(params[k].pointer)] = x[k];
     }
     return input;
 }
@@ -170,16 +185,16 @@ void check_box(const nlohmann::json& base, const ShearSpec& spec, const std::vec
         } catch (const SceneError& e) {
             std::ostringstream at;
             for (std::size_t k = 0; k < params.size(); ++k) at << (k ? ", " : "") << params[k].name << " = " << x[k];
-            throw SceneError("--parameter", "the scene is refused at the corner " + at.str() + " of the range: " + e.what() +
-                                                "; keep MIN and MAX inside what that key accepts");
+            throw SceneError("--parameter", "the scene is refused at the corner " + at.str() + " of the range: " +
+                                                e.what() + "; keep MIN and MAX inside what that key accepts");
         }
     }
 }
 
 }  // namespace
 
-nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, const std::vector<CalibrationParameter>& params,
-                         int max_runs, const ShearOptions& options) {
+nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
+                         const std::vector<CalibrationParameter>& params, int max_runs, const ShearOptions& options) {
     nlohmann::json base = spec.input;
     std::vector<double> rates;
     for (const auto& p : data.points)
@@ -192,10 +207,14 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
     const std::string root_dir = spec.output_directory;
     check_box(base, spec, params);
 
-    nlohmann::json result = {{"status", "complete"}, {"exit_status", 0}, {"runs", nlohmann::json::array()},
-                             {"data_points", data.points.size()}, {"parameters", nlohmann::json::array()},
+    nlohmann::json result = {{"status", "complete"},
+                             {"exit_status", 0},
+                             {"runs", nlohmann::json::array()},
+                             {"data_points", data.points.size()},
+                             {"parameters", nlohmann::json::array()},
                              {"objective", "RMS of (simulated - measured) / measured stress at the measured rates"},
-                             {"search", params.size() == 1 ? "golden-section search on [min, max]" : "Nelder-Mead simplex, clamped to the bounds"}};
+                             {"search", params.size() == 1 ? "golden-section search on [min, max]"
+                                                           : "Nelder-Mead simplex, clamped to the bounds"}};
     for (const auto& p : params) result["parameters"].push_back({{"name", p.name}, {"min", p.lo}, {"max", p.hi}});
     double best = 1e300;
     bool stop = false;
@@ -210,22 +229,33 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
         }
         nlohmann::json input = with_values(base, spec, params, clamped);
         const int run = static_cast<int>(result["runs"].size());
-        input["output"]["directory"] = (std::filesystem::path(root_dir) / ("calibrate_run_" + std::to_string(run))).string();
+        input["output"]["directory"] =
+            (std::filesystem::path(root_dir) / ("calibrate_run_" + std::to_string(run))).string();
         const ShearSpec s = read_shear_spec(input, spec.tier);
         ShearOptions o = options;
         o.label = "calibrate " + std::to_string(run + 1) + "/" + std::to_string(max_runs);
         const ShearOutcome out = run_shear_study(s, o);
         const double residual = out.status == "complete" ? wrap_residual(flow_points(out.results), data) : 1e300;
-        nlohmann::json rec = {{"values", values}, {"residual", residual < 1e299 ? nlohmann::json(residual) : nlohmann::json(nullptr)},
-                              {"status", out.status}, {"yield_stress_Pa", out.results["yield_stress_Pa"]}, {"wall_time_s", out.wall_time}};
+        nlohmann::json rec = {{"values", values},
+                              {"residual", residual < 1e299 ? nlohmann::json(residual) : nlohmann::json(nullptr)},
+                              {"status", out.status},
+                              {"yield_stress_Pa", out.results["yield_stress_Pa"]},
+                              {"wall_time_s", out.wall_time}};
         result["runs"].push_back(rec);
         if (options.progress)
             std::fprintf(stderr, "[calibrate] run %d: %s -> residual %.4g\n", run + 1, values.dump().c_str(), residual);
-        if (out.exit_status == 130) { stop = true; result["status"] = "interrupted"; result["exit_status"] = 130; }
+        if (out.exit_status == 130) {
+            stop = true;
+            result["status"] = "interrupted";
+            result["exit_status"] = 130;
+        }
         if (residual < best) {
             best = residual;
-            result["best"] = {{"values", values}, {"residual", residual}, {"flow_curve", out.results["flow_curve"]},
-                              {"fits", out.results["fits"]}, {"yield_stress_Pa", out.results["yield_stress_Pa"]}};
+            result["best"] = {{"values", values},
+                              {"residual", residual},
+                              {"flow_curve", out.results["flow_curve"]},
+                              {"fits", out.results["fits"]},
+                              {"yield_stress_Pa", out.results["yield_stress_Pa"]}};
         }
         return residual;
     };
@@ -236,8 +266,19 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
         double c = b - g * (b - a), d = a + g * (b - a);
         double fc = evaluate({c}), fd = evaluate({d});
         while (!stop && static_cast<int>(result["runs"].size()) < max_runs) {
-            if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = evaluate({c}); }
-            else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = evaluate({d}); }
+            if (fc < fd) {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - g * (b - a);
+                fc = evaluate({c});
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + g * (b - a);
+                fd = evaluate({d});
+            }
         }
     } else {
         // Nelder-Mead in the box, starting from a simplex around its centre.
@@ -269,15 +310,23 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, con
             if (fr < f[lo]) {
                 const auto xe = along(-2.0);
                 const double fe = evaluate(xe);
-                if (fe < fr) { simplex[hi] = xe; f[hi] = fe; } else { simplex[hi] = xr; f[hi] = fr; }
+                if (fe < fr) {
+                    simplex[hi] = xe;
+                    f[hi] = fe;
+                } else {
+                    simplex[hi] = xr;
+                    f[hi] = fr;
+                }
             } else if (fr < f[mid]) {
                 simplex[hi] = xr;
                 f[hi] = fr;
             } else {
                 const auto xc = along(0.5);
                 const double fcon = evaluate(xc);
-                if (fcon < f[hi]) { simplex[hi] = xc; f[hi] = fcon; }
-                else {
+                if (fcon < f[hi]) {
+                    simplex[hi] = xc;
+                    f[hi] = fcon;
+                } else {
                     for (int k : {mid, hi}) {
                         for (int q = 0; q < 2; ++q) simplex[k][q] = 0.5 * (simplex[k][q] + simplex[lo][q]);
                         f[k] = evaluate(simplex[k]);

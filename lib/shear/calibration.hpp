@@ -4,10 +4,9 @@
 // the evaluations share their random grains and the objective is smooth in the parameters); the
 // search is derivative-free because each evaluation is noisy and expensive: golden-section
 // search for one parameter, a bounded Nelder-Mead simplex for two.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "shear/flow_curve_fit.hpp"
 #include "shear/shear_cell.hpp"
@@ -33,10 +32,11 @@ struct CalibrationParameter {
 
 // "NAME=MIN:MAX" items; NAME one of rolling_friction, friction, rolling_damping,
 // cohesion_energy_density, relative_permeability, field_scale, or a JSON pointer. Throws SceneError.
-std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items, const ShearSpec& spec);
+std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items,
+                                                               const ShearSpec& spec);
 
 // Runs the search; the result holds status, runs, best (values, residual, flow curve, fits).
-nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data, const std::vector<CalibrationParameter>& params,
-                         int max_runs, const ShearOptions& options);
+nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
+                         const std::vector<CalibrationParameter>& params, int max_runs, const ShearOptions& options);
 
 }  // namespace mrjam

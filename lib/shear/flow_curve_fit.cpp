@@ -22,11 +22,17 @@ bool invert(Matrix a, int p, Matrix& inv) {
         std::swap(a[c], a[pivot]);
         std::swap(inv[c], inv[pivot]);
         const double d = a[c][c];
-        for (int j = 0; j < p; ++j) { a[c][j] /= d; inv[c][j] /= d; }
+        for (int j = 0; j < p; ++j) {
+            a[c][j] /= d;
+            inv[c][j] /= d;
+        }
         for (int r = 0; r < p; ++r) {
             if (r == c) continue;
             const double f = a[r][c];
-            for (int j = 0; j < p; ++j) { a[r][j] -= f * a[c][j]; inv[r][j] -= f * inv[c][j]; }
+            for (int j = 0; j < p; ++j) {
+                a[r][j] -= f * a[c][j];
+                inv[r][j] -= f * inv[c][j];
+            }
         }
     }
     return true;
@@ -111,9 +117,16 @@ ModelFit fit_bingham(const std::vector<FlowPoint>& curve, double min_rate) {
     }
     std::vector<std::array<double, kMaxParams>> rows;
     std::vector<double> y, e;
-    for (const auto& q : pts) { rows.push_back({1.0, q.rate, 0.0}); y.push_back(q.stress); e.push_back(q.error); }
+    for (const auto& q : pts) {
+        rows.push_back({1.0, q.rate, 0.0});
+        y.push_back(q.stress);
+        e.push_back(q.error);
+    }
     const LinearFit lf = least_squares(rows, y, e, 2);
-    if (!lf.ok) { f.note = "rates are all equal"; return f; }
+    if (!lf.ok) {
+        f.note = "rates are all equal";
+        return f;
+    }
     f.ok = true;
     f.yield_stress = lf.coef[0];
     f.yield_stress_error = lf.sigma[0];
@@ -130,7 +143,10 @@ ModelFit fit_casson(const std::vector<FlowPoint>& curve) {
     for (const auto& q : usable(curve, 0.0))
         if (q.stress > 0) pts.push_back(q);
     f.points = pts.size();
-    if (pts.size() < 2) { f.note = "needs at least two rates with positive stress"; return f; }
+    if (pts.size() < 2) {
+        f.note = "needs at least two rates with positive stress";
+        return f;
+    }
     std::vector<std::array<double, kMaxParams>> rows;
     std::vector<double> y, e;
     for (const auto& q : pts) {
@@ -139,7 +155,10 @@ ModelFit fit_casson(const std::vector<FlowPoint>& curve) {
         e.push_back(q.error / (2.0 * std::sqrt(q.stress)));  // d sqrt(tau) = d tau / (2 sqrt(tau))
     }
     const LinearFit lf = least_squares(rows, y, e, 2);
-    if (!lf.ok) { f.note = "rates are all equal"; return f; }
+    if (!lf.ok) {
+        f.note = "rates are all equal";
+        return f;
+    }
     f.ok = true;
     const double a = lf.coef[0], b = lf.coef[1];
     if (a < 0) f.note = "negative intercept of sqrt(tau): no yield stress in the Casson sense";
@@ -157,13 +176,20 @@ ModelFit fit_herschel_bulkley(const std::vector<FlowPoint>& curve) {
     f.model = "herschel_bulkley";
     const auto pts = usable(curve, 0.0);
     f.points = pts.size();
-    if (pts.size() < 3) { f.note = "needs at least three rates"; return f; }
+    if (pts.size() < 3) {
+        f.note = "needs at least three rates";
+        return f;
+    }
     // For a fixed flow index the model is linear in (tau_y, K): minimise the residual over n
     // alone by golden-section search, solving the linear problem at each n.
     auto solve = [&](double n, LinearFit& lf) {
         std::vector<std::array<double, kMaxParams>> rows;
         std::vector<double> y, e;
-        for (const auto& q : pts) { rows.push_back({1.0, std::pow(q.rate, n), 0.0}); y.push_back(q.stress); e.push_back(q.error); }
+        for (const auto& q : pts) {
+            rows.push_back({1.0, std::pow(q.rate, n), 0.0});
+            y.push_back(q.stress);
+            e.push_back(q.error);
+        }
         lf = least_squares(rows, y, e, 2);
         return lf.ok ? lf.ssr : 1e300;
     };
@@ -175,7 +201,10 @@ ModelFit fit_herschel_bulkley(const std::vector<FlowPoint>& curve) {
     for (int k = 0; k <= grid; ++k) {
         const double n = n_lo + (n_hi - n_lo) * k / grid;
         const double r = solve(n, lf);
-        if (r < best) { best = r; best_n = n; }
+        if (r < best) {
+            best = r;
+            best_n = n;
+        }
     }
     const double step = (n_hi - n_lo) / grid;
     double a = std::max(n_lo, best_n - step), b = std::min(n_hi, best_n + step);
@@ -183,11 +212,25 @@ ModelFit fit_herschel_bulkley(const std::vector<FlowPoint>& curve) {
     double c = b - g * (b - a), d = a + g * (b - a);
     double fc = solve(c, lf), fd = solve(d, lf);
     for (int it = 0; it < 200 && b - a > 1e-13; ++it) {
-        if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = solve(c, lf); }
-        else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = solve(d, lf); }
+        if (fc < fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = solve(c, lf);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = solve(d, lf);
+        }
     }
     const double n = 0.5 * (a + b);
-    if (solve(n, lf) >= 1e300) { f.note = "rates are all equal"; return f; }
+    if (solve(n, lf) >= 1e300) {
+        f.note = "rates are all equal";
+        return f;
+    }
     f.ok = true;
     f.flow_index = n;
     f.yield_stress = lf.coef[0];

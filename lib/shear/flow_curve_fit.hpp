@@ -9,10 +9,9 @@
 // (residual variance, when there are more points than parameters) and the points' own error
 // bars propagated through the fit; so two points with large error bars do not give a
 // falsely exact intercept.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace mrjam {
 
@@ -23,19 +22,19 @@ struct FlowPoint {
 };
 
 struct ModelFit {
-    std::string model;            // "bingham", "casson", "herschel_bulkley"
-    bool ok = false;              // false: too few usable points (see note)
+    std::string model;  // "bingham", "casson", "herschel_bulkley"
+    bool ok = false;    // false: too few usable points (see note)
     std::string note;
-    double yield_stress = 0;      // Pa
+    double yield_stress = 0;  // Pa
     double yield_stress_error = 0;
-    double viscosity = 0;         // Bingham and Casson plastic viscosity, Pa s
+    double viscosity = 0;  // Bingham and Casson plastic viscosity, Pa s
     double viscosity_error = 0;
-    double consistency = 0;       // Herschel-Bulkley K, Pa s^n
-    double flow_index = 1;        // Herschel-Bulkley n
+    double consistency = 0;  // Herschel-Bulkley K, Pa s^n
+    double flow_index = 1;   // Herschel-Bulkley n
     double flow_index_error = 0;
-    double rms_residual = 0;      // Pa, in stress
+    double rms_residual = 0;  // Pa, in stress
     std::size_t points = 0;
-    double min_rate = 0;          // the rates used
+    double min_rate = 0;  // the rates used
     double stress_at(double rate) const;
 };
 

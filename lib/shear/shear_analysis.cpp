@@ -16,8 +16,12 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
     nlohmann::json r = nlohmann::json::object();
     const nlohmann::json* main = nullptr;
     bool main_partial = false;
-    if (!cells.empty()) main = &cells[0];
-    else if (current.is_object() && current["cell"] == 0) { main = &current; main_partial = true; }
+    if (!cells.empty())
+        main = &cells[0];
+    else if (current.is_object() && current["cell"] == 0) {
+        main = &current;
+        main_partial = true;
+    }
     r["flow_curve"] = nlohmann::json::array();
     if (main) {
         for (const auto& q : (*main)["rates"]) {
@@ -26,9 +30,13 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
             r["flow_curve"].push_back(p);
         }
         r["magnetisation"] = main->value("magnetisation", nlohmann::json());
-        r["cell"] = {{"size_m", {spec.cell.x, spec.cell.y, spec.cell.z}}, {"raft_thickness_m", spec.raft_thickness},
+        r["cell"] = {{"size_m", {spec.cell.x, spec.cell.y, spec.cell.z}},
+                     {"raft_thickness_m", spec.raft_thickness},
                      {"gap_m", spec.gap()},
-                     {"boundaries", spec.lees_edwards ? "lees_edwards" : "rafts"}, {"monolayer", spec.monolayer}, {"grains", (*main)["grains"]}, {"timestep_s", (*main)["timestep_s"]}};
+                     {"boundaries", spec.lees_edwards ? "lees_edwards" : "rafts"},
+                     {"monolayer", spec.monolayer},
+                     {"grains", (*main)["grains"]},
+                     {"timestep_s", (*main)["timestep_s"]}};
         if (main->contains("rafts")) r["cell"]["rafts"] = (*main)["rafts"];
         if (spec.monolayer) {
             r["cell"]["area_fraction"] = spec.area_fraction;
@@ -52,8 +60,11 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
         nlohmann::json sweep = nlohmann::json::array();
         for (std::size_t c = 1; c < cells.size(); ++c) {
             const auto& q = cells[c]["rates"].back();  // the first, if two, is the pre-shear
-            sweep.push_back({{"flux_density_T", cells[c]["flux_density_T"]}, {"rate_1_s", q["rate_1_s"]},
-                             {"stress_Pa", q["stress_Pa"]}, {"error_Pa", q["error_Pa"]}, {"strain", q["strain"]}});
+            sweep.push_back({{"flux_density_T", cells[c]["flux_density_T"]},
+                             {"rate_1_s", q["rate_1_s"]},
+                             {"stress_Pa", q["stress_Pa"]},
+                             {"error_Pa", q["error_Pa"]},
+                             {"strain", q["strain"]}});
         }
         r["field_sweep"] = sweep;
     }

@@ -2,9 +2,8 @@
 // From the rates a study finished to the results of a report: the flow curve, the yield-stress
 // fits (Bingham, Casson, Herschel-Bulkley), the stress-vs-field curve and the comparison with
 // the experiment the scene names.
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "shear/flow_curve_fit.hpp"
 #include "shear/shear_spec.hpp"

@@ -27,10 +27,10 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 // One cell of a study: its field and its ladder.
 struct CellPlan {
-    std::string name;          // "main" or "field_sweep"
-    double flux_density = 0;   // T
+    std::string name;         // "main" or "field_sweep"
+    double flux_density = 0;  // T
     std::vector<double> wall_speeds, rates, strains;
-    std::vector<long> steps;   // fixed steps per rate (0: from the strain)
+    std::vector<long> steps;  // fixed steps per rate (0: from the strain)
 };
 
 std::vector<CellPlan> plan_of(const ShearSpec& spec) {
@@ -99,7 +99,9 @@ public:
 
     // Fresh study: the progress record starts empty.
     void start() {
-        progress_ = {{"shear_input", spec_.input}, {"tier", spec_.tier}, {"cells", nlohmann::json::array()},
+        progress_ = {{"shear_input", spec_.input},
+                     {"tier", spec_.tier},
+                     {"cells", nlohmann::json::array()},
                      {"current", nullptr}};
     }
 
@@ -131,7 +133,8 @@ public:
                     out.checkpoint = checkpoint_path(spec_, options_);
                     write_checkpoint_now();
                     if (options_.progress)
-                        std::fprintf(stderr, "[%s] interrupted; checkpoint written to %s\n", options_.label.c_str(), out.checkpoint.c_str());
+                        std::fprintf(stderr, "[%s] interrupted; checkpoint written to %s\n", options_.label.c_str(),
+                                     out.checkpoint.c_str());
                     break;
                 }
             }
@@ -166,10 +169,12 @@ private:
         // Chains must span several grains between the rafts, or the cell measures single grains
         // wedged between two walls.
         if (spec_.gap() < 2.5 * d_max)
-            throw SceneError("/cell/size", (spec_.lees_edwards ? "the height of the Lees-Edwards cell (" : "the gap between the rafts (") +
-                                               format_number(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
-                                               format_number(d_max * 1e6) + " um); make the cell higher" +
-                                               (spec_.lees_edwards ? "" : " or the rafts thinner (/cell/raft_thickness)"));
+            throw SceneError(
+                "/cell/size",
+                (spec_.lees_edwards ? "the height of the Lees-Edwards cell (" : "the gap between the rafts (") +
+                    format_number(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
+                    format_number(d_max * 1e6) + " um); make the cell higher" +
+                    (spec_.lees_edwards ? "" : " or the rafts thinner (/cell/raft_thickness)"));
         prepare(scene_->system);
     }
 
@@ -179,18 +184,31 @@ private:
         nlohmann::json& cur = progress_["current"];
         if (!resumed_ || cur.is_null()) {
             build_cell(c);
-            cur = {{"cell", c}, {"phase", "magnetise"}, {"magnetise_log", nlohmann::json::array()}, {"magnetise_steps", 0},
-                   {"rate_index", 0}, {"step_in_rate", 0}, {"rates", nlohmann::json::array()},
-                   {"samples", {{"upper", nlohmann::json::array()}, {"lower", nlohmann::json::array()}, {"bulk", nlohmann::json::array()}}},
-                   {"grains", scene_->system.particles.size()}, {"timestep_s", scene_->system.dt}};
+            cur = {{"cell", c},
+                   {"phase", "magnetise"},
+                   {"magnetise_log", nlohmann::json::array()},
+                   {"magnetise_steps", 0},
+                   {"rate_index", 0},
+                   {"step_in_rate", 0},
+                   {"rates", nlohmann::json::array()},
+                   {"samples",
+                    {{"upper", nlohmann::json::array()},
+                     {"lower", nlohmann::json::array()},
+                     {"bulk", nlohmann::json::array()}}},
+                   {"grains", scene_->system.particles.size()},
+                   {"timestep_s", scene_->system.dt}};
         }
         resumed_ = false;
         // The first cell's engine scene and step, for the report; kept in the progress record
         // (so in the checkpoint), since a study resumed past its first cell never builds it.
         if (c == 0) {
-            progress_["engine"] = {{"inputs", scene_->resolved}, {"fidelity", scene_->fidelity},
-                       {"timestep", {{"used_s", scene_->system.dt}, {"critical_s", scene_->limits.critical},
-                                     {"limiting", scene_->limits.limiting}, {"hertz_s", scene_->limits.hertz}}}};
+            progress_["engine"] = {{"inputs", scene_->resolved},
+                                   {"fidelity", scene_->fidelity},
+                                   {"timestep",
+                                    {{"used_s", scene_->system.dt},
+                                     {"critical_s", scene_->limits.critical},
+                                     {"limiting", scene_->limits.limiting},
+                                     {"hertz_s", scene_->limits.hertz}}}};
         }
         System& s = scene_->system;
         if (cur["phase"] == "magnetise") {
@@ -204,9 +222,10 @@ private:
             cur["step_in_rate"] = 0;
             write_checkpoint_now();  // a finished rate is never redone
         }
-        nlohmann::json done = {{"name", plan.name}, {"flux_density_T", plan.flux_density}, {"grains", s.particles.size()},
-                               {"timestep_s", s.dt}, {"rafts", nlohmann::json::array()},
-                               {"magnetisation", cur["magnetisation"]}, {"rates", cur["rates"]}};
+        nlohmann::json done = {
+            {"name", plan.name},    {"flux_density_T", plan.flux_density}, {"grains", s.particles.size()},
+            {"timestep_s", s.dt},   {"rafts", nlohmann::json::array()},    {"magnetisation", cur["magnetisation"]},
+            {"rates", cur["rates"]}};
         for (const Raft& r : s.rafts) done["rafts"].push_back({{"name", r.name}, {"grains", r.members}});
         progress_["cells"].push_back(done);
         cur = nullptr;
@@ -227,8 +246,8 @@ private:
             if (interrupt_requested()) return false;
             if (seconds_since(last_checkpoint_) > spec_.checkpoint_every_seconds) write_checkpoint_now();
             if (options_.progress && seconds_since(last_progress_) > spec_.progress_interval) {
-                std::fprintf(stderr, "[%s] %s; t = %.4g s, step %ld, %.0f s elapsed\n", options_.label.c_str(), what.c_str(), s.time,
-                             s.step, seconds_since(t0_));
+                std::fprintf(stderr, "[%s] %s; t = %.4g s, step %ld, %.0f s elapsed\n", options_.label.c_str(),
+                             what.c_str(), s.time, s.step, seconds_since(t0_));
                 last_progress_ = Clock::now();
             }
         }
@@ -252,7 +271,8 @@ private:
         while (done < max_steps) {
             const long n = std::min(check_steps - done % check_steps, max_steps - done);
             char what[160];
-            std::snprintf(what, sizeof what, "cell %zu/%zu (%.0f mT): magnetising", c + 1, cells_.size(), cells_[c].flux_density * 1e3);
+            std::snprintf(what, sizeof what, "cell %zu/%zu (%.0f mT): magnetising", c + 1, cells_.size(),
+                          cells_[c].flux_density * 1e3);
             const long before = s.step;
             const bool ok = step(n, what);
             done += s.step - before;
@@ -264,7 +284,8 @@ private:
                 continue;
             }
             const ChainState cs = chain_state(s, spec_.field_direction);
-            log.push_back({{"time_s", s.time}, {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos", cs.mean_abs_cos}});
+            log.push_back(
+                {{"time_s", s.time}, {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos", cs.mean_abs_cos}});
             if (done >= min_steps && static_cast<int>(log.size()) >= spec_.magnetise_window) {
                 auto spread = [&](const char* key) {
                     double lo = 1e300, hi = -1e300, sum = 0;
@@ -277,7 +298,8 @@ private:
                     const double mean = sum / spec_.magnetise_window;
                     return mean > 0 ? (hi - lo) / mean : 0.0;
                 };
-                if (spread("contacts_per_grain") < spec_.magnetise_tolerance && spread("mean_abs_cos") < spec_.magnetise_tolerance) {
+                if (spread("contacts_per_grain") < spec_.magnetise_tolerance &&
+                    spread("mean_abs_cos") < spec_.magnetise_tolerance) {
                     settled = true;
                     break;
                 }
@@ -285,13 +307,19 @@ private:
             if (!ok) return false;
         }
         const ChainState cs = chain_state(s, spec_.field_direction);
-        cur["magnetisation"] = {{"settled", settled}, {"max_overlap_ratio_seen", max_overlap_}, {"duration_s", done * s.dt}, {"steps", done},
-                                {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos_to_field", cs.mean_abs_cos},
-                                {"criterion", "contacts per grain and mean |cos| of contact normals to the field each vary by less than " +
-                                                  format_number(spec_.magnetise_tolerance) + " of their mean over the last " +
-                                                  format_number(spec_.magnetise_window) + " checks, one every " +
-                                                  format_number(spec_.magnetise_check_every) + " s, after at least " +
-                                                  format_number(spec_.magnetise_min) + " s; at most " + format_number(spec_.magnetise_max) + " s"}};
+        cur["magnetisation"] = {
+            {"settled", settled},
+            {"max_overlap_ratio_seen", max_overlap_},
+            {"duration_s", done * s.dt},
+            {"steps", done},
+            {"contacts_per_grain", cs.contacts_per_grain},
+            {"mean_abs_cos_to_field", cs.mean_abs_cos},
+            {"criterion", "contacts per grain and mean |cos| of contact normals to the field each vary by less than " +
+                              format_number(spec_.magnetise_tolerance) + " of their mean over the last " +
+                              format_number(spec_.magnetise_window) + " checks, one every " +
+                              format_number(spec_.magnetise_check_every) + " s, after at least " +
+                              format_number(spec_.magnetise_min) + " s; at most " + format_number(spec_.magnetise_max) +
+                              " s"}};
         if (!settled && options_.progress)
             std::fprintf(stderr, "[%s] warning: chains had not settled after %.3g s (max_duration); shearing anyway\n",
                          options_.label.c_str(), done * s.dt);
@@ -308,8 +336,13 @@ private:
         for (std::size_t i = 0; i < s.particles.size(); ++i) {
             const double z = s.particles.position[i].z;
             s.particles.raft[i] = -1;
-            if (z < spec_.raft_thickness) { s.particles.raft[i] = 0; ++s.rafts[0].members; }
-            else if (z > spec_.cell.z - spec_.raft_thickness) { s.particles.raft[i] = 1; ++s.rafts[1].members; }
+            if (z < spec_.raft_thickness) {
+                s.particles.raft[i] = 0;
+                ++s.rafts[0].members;
+            } else if (z > spec_.cell.z - spec_.raft_thickness) {
+                s.particles.raft[i] = 1;
+                ++s.rafts[1].members;
+            }
         }
         prepare(s);
     }
@@ -329,7 +362,8 @@ private:
         for (Wall& w : s.walls) w.velocity = Vec3{w.name == "top" ? v : -v, 0, 0};
         // Linear from -v at the lower raft's inner face to +v at the upper's, constant beyond
         // (fig. 2.4): the rafts and the fluid inside them move together, so they feel no drag.
-        s.flow = std::make_shared<CouetteFlow>(2, spec_.raft_thickness, spec_.cell.z - spec_.raft_thickness, Vec3{-v, 0, 0}, Vec3{v, 0, 0});
+        s.flow = std::make_shared<CouetteFlow>(2, spec_.raft_thickness, spec_.cell.z - spec_.raft_thickness,
+                                               Vec3{-v, 0, 0}, Vec3{v, 0, 0});
     }
 
     bool shear_rate(std::size_t c, std::size_t k) {
@@ -337,18 +371,23 @@ private:
         const CellPlan& plan = cells_[c];
         nlohmann::json& cur = progress_["current"];
         apply_rate(plan.wall_speeds[k]);
-        const long total = plan.steps[k] > 0 ? plan.steps[k]
-                                             : std::max(1L, static_cast<long>(std::ceil(plan.strains[k] / plan.rates[k] / s.dt)));
+        const long total = plan.steps[k] > 0
+                               ? plan.steps[k]
+                               : std::max(1L, static_cast<long>(std::ceil(plan.strains[k] / plan.rates[k] / s.dt)));
         const long every = std::max(1L, total / spec_.samples_per_rate);
         long i = cur["step_in_rate"].get<long>();
-        if (i == 0) cur["samples"] = {{"upper", nlohmann::json::array()}, {"lower", nlohmann::json::array()}, {"bulk", nlohmann::json::array()}};
+        if (i == 0)
+            cur["samples"] = {{"upper", nlohmann::json::array()},
+                              {"lower", nlohmann::json::array()},
+                              {"bulk", nlohmann::json::array()}};
         const auto t_rate = Clock::now();
         max_overlap_ = 0;
         while (i < total) {
             const long n = std::min(every - i % every, total - i);
             char what[200];
-            std::snprintf(what, sizeof what, "cell %zu/%zu (%.0f mT): rate %zu/%zu (%.4g 1/s), step %ld/%ld, last stress %.4g kPa",
-                          c + 1, cells_.size(), plan.flux_density * 1e3, k + 1, plan.rates.size(), plan.rates[k], i, total,
+            std::snprintf(what, sizeof what,
+                          "cell %zu/%zu (%.0f mT): rate %zu/%zu (%.4g 1/s), step %ld/%ld, last stress %.4g kPa", c + 1,
+                          cells_.size(), plan.flux_density * 1e3, k + 1, plan.rates.size(), plan.rates[k], i, total,
                           cur["samples"]["upper"].empty() ? 0.0 : cur["samples"]["upper"].back().get<double>() * 1e-3);
             const long before = s.step;
             const bool ok = step(n, what);
@@ -373,16 +412,25 @@ private:
         }
         auto window = [&](const char* key) {
             const auto all = cur["samples"][key].get<std::vector<double>>();
-            const std::size_t keep = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(all.size() * spec_.window_fraction)));
+            const std::size_t keep =
+                std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(all.size() * spec_.window_fraction)));
             return block_average(std::vector<double>(all.end() - std::min(keep, all.size()), all.end()), spec_.blocks);
         };
         const BlockAverage up = window("upper"), bulk = window("bulk");
-        nlohmann::json rate = {{"rate_1_s", plan.rates[k]}, {"wall_speed_m_s", plan.wall_speeds[k]}, {"steps", total},
-                               {"strain", total * s.dt * plan.rates[k]}, {"sample_every_steps", every},
-                               {"stress_Pa", up.mean}, {"error_Pa", up.error}, {"blocks", up.blocks}, {"samples_averaged", up.samples},
+        nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
+                               {"wall_speed_m_s", plan.wall_speeds[k]},
+                               {"steps", total},
+                               {"strain", total * s.dt * plan.rates[k]},
+                               {"sample_every_steps", every},
+                               {"stress_Pa", up.mean},
+                               {"error_Pa", up.error},
+                               {"blocks", up.blocks},
+                               {"samples_averaged", up.samples},
                                {"stress_source", spec_.lees_edwards ? "virial of the Lees-Edwards box" : "upper raft"},
-                               {"bulk_stress_Pa", bulk.mean}, {"bulk_error_Pa", bulk.error},
-                               {"series_upper_Pa", cur["samples"]["upper"]}, {"max_overlap_ratio_seen", max_overlap_},
+                               {"bulk_stress_Pa", bulk.mean},
+                               {"bulk_error_Pa", bulk.error},
+                               {"series_upper_Pa", cur["samples"]["upper"]},
+                               {"max_overlap_ratio_seen", max_overlap_},
                                {"wall_time_s", seconds_since(t_rate)}};
         if (!spec_.lees_edwards) {
             const BlockAverage lo = window("lower");
@@ -391,8 +439,9 @@ private:
         }
         cur["rates"].push_back(rate);
         if (options_.progress)
-            std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(), plan.rates[k],
-                         up.mean * 1e-3, up.error * 1e-3, spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
+            std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
+                         plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
+                         spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
         return true;
     }
 
@@ -405,7 +454,8 @@ private:
 
     void write_checkpoint_now() {
         if (!scene_) return;
-        write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, scene_->system, ProtocolPosition{}, progress_);
+        write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, scene_->system, ProtocolPosition{},
+                         progress_);
         last_checkpoint_ = Clock::now();
     }
 

@@ -6,9 +6,8 @@
 //
 // Progress goes to stderr; a checkpoint holds the engine state and the study's progress (finished
 // cells and rates with their samples), so a resumed study never redoes a finished rate.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "shear/shear_spec.hpp"
 
@@ -22,12 +21,12 @@ struct ShearOptions {
 };
 
 struct ShearOutcome {
-    nlohmann::json results;   // flow_curve, fits, field_sweep, magnetisation, cell ...
-    nlohmann::json engine;    // timestep, engine fidelity and inputs of the main cell
+    nlohmann::json results;           // flow_curve, fits, field_sweep, magnetisation, cell ...
+    nlohmann::json engine;            // timestep, engine fidelity and inputs of the main cell
     std::string status = "complete";  // complete, interrupted, failed
     std::string error;
-    std::string checkpoint;   // written on interrupt
-    int exit_status = 0;      // 0, 130 interrupted, 3 blow-up
+    std::string checkpoint;  // written on interrupt
+    int exit_status = 0;     // 0, 130 interrupted, 3 blow-up
     double wall_time = 0;
 };
 

@@ -31,7 +31,10 @@ void add_bingham(Plot& plot, const nlohmann::json& fits, double x_max) {
     line.line = true;
     line.colour = "#d62728";
     const double ty = b["yield_stress_Pa"].get<double>(), eta = b["plastic_viscosity_Pa_s"].get<double>();
-    for (double x : {0.0, x_max}) { line.x.push_back(x); line.y.push_back((ty + eta * x) * 1e-3); }
+    for (double x : {0.0, x_max}) {
+        line.x.push_back(x);
+        line.y.push_back((ty + eta * x) * 1e-3);
+    }
     plot.series.push_back(line);
 }
 
@@ -42,7 +45,10 @@ void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) 
         e.label = experiment.value("label", std::string("experiment"));
         e.colour = "#2ca02c";
         e.hollow = true;
-        for (const auto& q : experiment["flow_curve"]) { e.x.push_back(q[0].get<double>()); e.y.push_back(q[1].get<double>() * 1e-3); }
+        for (const auto& q : experiment["flow_curve"]) {
+            e.x.push_back(q[0].get<double>());
+            e.y.push_back(q[1].get<double>() * 1e-3);
+        }
         plot.series.push_back(e);
     }
     if (experiment.contains("yield_stress_Pa")) {
@@ -50,7 +56,10 @@ void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) 
         y.label = "experimental yield stress";
         y.line = true;
         y.colour = "#2ca02c";
-        for (double x : {0.0, x_max}) { y.x.push_back(x); y.y.push_back(experiment["yield_stress_Pa"].get<double>() * 1e-3); }
+        for (double x : {0.0, x_max}) {
+            y.x.push_back(x);
+            y.y.push_back(experiment["yield_stress_Pa"].get<double>() * 1e-3);
+        }
         plot.series.push_back(y);
     }
 }
@@ -74,7 +83,8 @@ nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann:
     paths["flow_curve"] = fc;
     if (r.contains("field_sweep") && !r["field_sweep"].empty()) {
         Plot f;
-        f.title = "Stress vs field at " + std::to_string(static_cast<int>(r["field_sweep"][0]["rate_1_s"].get<double>())) + " 1/s";
+        f.title = "Stress vs field at " +
+                  std::to_string(static_cast<int>(r["field_sweep"][0]["rate_1_s"].get<double>())) + " 1/s";
         f.x_label = "flux density (mT)";
         f.y_label = "shear stress (kPa)";
         PlotSeries s;
@@ -92,7 +102,8 @@ nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann:
     return paths;
 }
 
-std::string write_calibration_plot(const std::string& report_path, const nlohmann::json& report, const CalibrationData& data) {
+std::string write_calibration_plot(const std::string& report_path, const nlohmann::json& report,
+                                   const CalibrationData& data) {
     Plot plot;
     plot.title = "Calibration: flow curve at the optimum";
     plot.x_label = "shear rate (1/s)";
@@ -103,7 +114,11 @@ std::string write_calibration_plot(const std::string& report_path, const nlohman
     d.label = "data";
     d.colour = "#2ca02c";
     d.hollow = true;
-    for (const auto& p : data.points) { d.x.push_back(p.rate); d.y.push_back(p.stress * 1e-3); d.error.push_back(p.error * 1e-3); }
+    for (const auto& p : data.points) {
+        d.x.push_back(p.rate);
+        d.y.push_back(p.stress * 1e-3);
+        d.error.push_back(p.error * 1e-3);
+    }
     plot.series.push_back(d);
     const std::string path = sibling(report_path, "_calibration.svg");
     write_svg(path, plot);

@@ -1,9 +1,8 @@
 #pragma once
 // Images written next to a shear report: the flow curve with its Bingham fit against the
 // experimental points, and the stress-vs-field curve of a field sweep.
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "shear/calibration.hpp"
 
@@ -13,6 +12,7 @@ namespace mrjam {
 nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann::json& report);
 
 // The calibration's flow curve at the optimum against the data; returns its path.
-std::string write_calibration_plot(const std::string& report_path, const nlohmann::json& report, const CalibrationData& data);
+std::string write_calibration_plot(const std::string& report_path, const nlohmann::json& report,
+                                   const CalibrationData& data);
 
 }  // namespace mrjam

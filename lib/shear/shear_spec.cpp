@@ -31,15 +31,17 @@ SizeDistribution read_part(SceneNode node, nlohmann::json& engine) {
     const auto diameters = node.quantity_list("diameters", units::length, Bounds::positive());
     const auto frequencies = node.quantity_list("frequencies", units::dimensionless, Bounds::non_negative());
     if (diameters.empty())
-        node.fail("diameters", "the size table is empty; list the class diameters (e.g. [\"1.46 um\", ...]) with one frequency each");
+        node.fail(
+            "diameters",
+            "the size table is empty; list the class diameters (e.g. [\"1.46 um\", ...]) with one frequency each");
     if (diameters.size() != frequencies.size())
         node.fail("frequencies", "needs one entry per diameter (" + std::to_string(diameters.size()) + ")");
     const std::string basis = node.choice("basis", {"number", "volume"}, "number");
     node.finish();
     try {
-        auto d = SizeDistribution::table(diameters, frequencies,
-                                         basis == "number" ? SizeDistribution::FrequencyBasis::number
-                                                           : SizeDistribution::FrequencyBasis::volume);
+        auto d = SizeDistribution::table(
+            diameters, frequencies,
+            basis == "number" ? SizeDistribution::FrequencyBasis::number : SizeDistribution::FrequencyBasis::volume);
         engine = {{"distribution", "table"}, {"diameters", diameters}, {"frequencies", frequencies}, {"basis", basis}};
         return d;
     } catch (const std::invalid_argument& e) {
@@ -120,33 +122,42 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         // `size` y its thickness for the stress, by default the largest diameter.
         s.monolayer = cell.boolean("monolayer", false);
         const double thickness = s.monolayer ? s.largest_diameter : tier.cell_size;
-        s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, thickness, tier.cell_size}, Bounds::positive());
+        s.cell =
+            cell.vector("size", units::length, Vec3{tier.cell_size, thickness, tier.cell_size}, Bounds::positive());
         if (s.monolayer && s.cell.y < s.largest_diameter)
             cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
-                                  fmt_um(s.largest_diameter) + "); it is the thickness the stress is divided by, usually the largest diameter");
+                                  fmt_um(s.largest_diameter) +
+                                  "); it is the thickness the stress is divided by, usually the largest diameter");
         s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
         if (s.lees_edwards) {
             if (cell.has("raft_thickness"))
-                cell.fail("raft_thickness", "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
-                                            "(remove raft_thickness or use rafts)");
+                cell.fail("raft_thickness",
+                          "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
+                          "(remove raft_thickness or use rafts)");
             s.raft_thickness = 0;
         } else {
-            s.raft_thickness = cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+            s.raft_thickness =
+                cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
         }
         if (!(s.gap() > 0))
-            cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) + " each) leave no gap in a cell " +
-                                            fmt_um(s.cell.z) + " high; thin the rafts or raise the cell");
+            cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) +
+                                            " each) leave no gap in a cell " + fmt_um(s.cell.z) +
+                                            " high; thin the rafts or raise the cell");
         cell.finish();
     }
     if (s.monolayer) {
         if (root.has("volume_fraction"))
-            root.fail("volume_fraction", "a monolayer is filled by area: give \"area_fraction\" (default 0.5, at most 0.84) instead");
+            root.fail("volume_fraction",
+                      "a monolayer is filled by area: give \"area_fraction\" (default 0.5, at most 0.84) instead");
         s.area_fraction = root.number("area_fraction", 0.5, Bounds::open_closed(0.0, 1.0));
         if (s.area_fraction > kRandomClosePackingDiscs)
-            root.fail("area_fraction", "discs cannot be packed at random above 0.84 of the plane (random close packing); lower it");
+            root.fail("area_fraction",
+                      "discs cannot be packed at random above 0.84 of the plane (random close packing); lower it");
     } else {
         if (root.has("area_fraction"))
-            root.fail("area_fraction", "is used only for a monolayer (\"cell\": {\"monolayer\": true}); a 3D cell takes \"volume_fraction\"");
+            root.fail(
+                "area_fraction",
+                "is used only for a monolayer (\"cell\": {\"monolayer\": true}); a 3D cell takes \"volume_fraction\"");
         s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
     }
 
@@ -175,7 +186,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
                                      "); scale it less or start from a stiffer material");
         if (!density_range().contains(density * s.density_scale))
             sc.fail("density", "scales the density to " + format_number(density * s.density_scale) +
-                                   " kg/m3, past the engine's range (" + density_range().describe() + "); scale it less");
+                                   " kg/m3, past the engine's range (" + density_range().describe() +
+                                   "); scale it less");
         sc.finish();
         s.material["youngs_modulus"] = youngs * s.stiffness_scale;
         s.material["density"] = density * s.density_scale;
@@ -198,8 +210,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     // is the Stokes coefficient 6 pi mu R of the number-mean grain, so the two are comparable.
     s.dissipation = root.choice("dissipation", {"stokes_drag", "contact_damping"}, "stokes_drag");
     if (s.dissipation == "contact_damping")
-        s.contact_damping = root.quantity("contact_damping", units::damping, 3.0 * M_PI * s.viscosity * sizes.mean_diameter_number(),
-                                          Bounds::positive());
+        s.contact_damping = root.quantity("contact_damping", units::damping,
+                                          3.0 * M_PI * s.viscosity * sizes.mean_diameter_number(), Bounds::positive());
     else if (root.has("contact_damping"))
         root.fail("contact_damping", "is used only with \"dissipation\": \"contact_damping\"");
     {
@@ -210,7 +222,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.field_direction = dir / norm(dir);
         // The dipoles of a monolayer must lie in its plane, or they would pull grains out of it.
         if (s.monolayer && std::abs(s.field_direction.y) > 1e-12)
-            f.fail("direction", "a monolayer lies in the x-z plane: the field must too (y component 0, e.g. [0, 0, 1])");
+            f.fail("direction",
+                   "a monolayer lies in the x-z plane: the field must too (y component 0, e.g. [0, 0, 1])");
         f.finish();
     }
     {
@@ -219,8 +232,10 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         SceneNode m = given ? *given : SceneNode(in, s.resolved["magnetic"], "/magnetic");
         s.magnetic = nlohmann::json::object();
         s.magnetic["mutual"] = m.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
-        if (m.has("cutoff")) s.magnetic["cutoff"] = m.raw("cutoff");
-        else m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
+        if (m.has("cutoff"))
+            s.magnetic["cutoff"] = m.raw("cutoff");
+        else
+            m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
         for (const char* k : {"iterations", "tolerance", "max_iterations"})
             if (m.has(k)) s.magnetic[k] = m.raw(k);
         // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
@@ -261,8 +276,9 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         // Sheared before the ramp ends, the cell would be measured in a field still rising.
         if (s.field_ramp > s.magnetise_min)
             m.fail(m.has("field_ramp") ? "field_ramp" : "min_duration",
-                   "the field ramps up over field_ramp (" + format_number(s.field_ramp * 1e6) + " us) and the chains must settle in "
-                   "the full field: make min_duration at least field_ramp");
+                   "the field ramps up over field_ramp (" + format_number(s.field_ramp * 1e6) +
+                       " us) and the chains must settle in "
+                       "the full field: make min_duration at least field_ramp");
         m.finish();
     }
     {
@@ -281,7 +297,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
             } else {
                 // The source's ladder: wall speeds 0.128 ... 0.001 m/s across its 220 um gap
                 // (sec. 2.4.2), kept as rates so a smaller cell shears at the same rates.
-                for (double v : {0.128, 0.064, 0.032, 0.011, 0.008, 0.004, 0.002, 0.001}) s.rates.push_back(2 * v / 220e-6);
+                for (double v : {0.128, 0.064, 0.032, 0.011, 0.008, 0.004, 0.002, 0.001})
+                    s.rates.push_back(2 * v / 220e-6);
                 l.resolved_child("shear_rates") = s.rates;
             }
             for (double g : s.rates) s.wall_speeds.push_back(0.5 * g * s.gap());
@@ -318,7 +335,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     }
     if (auto sw = root.optional_object("field_sweep")) {
         s.sweep_fields = sw->quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
-        if (s.sweep_fields.empty()) sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
+        if (s.sweep_fields.empty())
+            sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
         s.sweep_rate = sw->quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
         s.sweep_strain = sw->number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
         sw->finish();
@@ -327,13 +345,15 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.experiment = nlohmann::json::object();
         s.experiment["label"] = ex->text("label", "experiment");
         if (ex->has("yield_stress"))
-            s.experiment["yield_stress_Pa"] = ex->quantity("yield_stress", units::pressure, std::nullopt, Bounds::positive());
+            s.experiment["yield_stress_Pa"] =
+                ex->quantity("yield_stress", units::pressure, std::nullopt, Bounds::positive());
         if (ex->has("flow_curve")) {
             const auto& fc = ex->raw("flow_curve");
             if (!fc.is_array()) ex->fail("flow_curve", "must be a list of [shear rate in 1/s, stress in Pa] pairs");
             for (std::size_t k = 0; k < fc.size(); ++k)
                 if (!fc[k].is_array() || fc[k].size() != 2 || !fc[k][0].is_number() || !fc[k][1].is_number())
-                    throw SceneError(ex->path_of("flow_curve") + "/" + std::to_string(k), "must be [shear rate in 1/s, stress in Pa]");
+                    throw SceneError(ex->path_of("flow_curve") + "/" + std::to_string(k),
+                                     "must be [shear rate in 1/s, stress in Pa]");
             s.experiment["flow_curve"] = fc;
         }
         if (ex->has("other_yield_stresses")) s.experiment["other_yield_stresses"] = ex->raw("other_yield_stresses");
@@ -364,11 +384,14 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
          {{{"name", "bottom"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 0, 1}}},
           {{"name", "top"}, {"type", "plane"}, {"point", {0, 0, s.cell.z}}, {"normal", {0, 0, -1}}}}},
         {"grains",
-         {{{"material", "grain"}, {"size", s.size_table},
+         {{{"material", "grain"},
+           {"size", s.size_table},
            {"placement", {{"method", "random"}, {"volume_fraction", s.volume_fraction}}}}}},
         {"run", s.run},
-        {"output", {{"directory", s.output_directory}, {"progress_interval", s.progress_interval},
-                    {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
+        {"output",
+         {{"directory", s.output_directory},
+          {"progress_interval", s.progress_interval},
+          {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
     scene["run"]["steps"] = 0;
     if (s.monolayer) {
         // Centres in the mid-plane y = Y/2, no y images, no y walls: the integrator holds them there.
@@ -398,11 +421,16 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
 }
 
 std::string shear_path_of(const std::string& p) {
-    const std::pair<const char*, const char*> map[] = {
-        {"/materials/0", "/material"}, {"/grains/0/size", "/size"}, {"/grains/0/placement/volume_fraction", "/volume_fraction"},
-        {"/grains/0/placement/area_fraction", "/area_fraction"},
-        {"/grains/0", "/size"}, {"/domain", "/cell/size"}, {"/magnetic/field", "/field"}, {"/magnetic", "/magnetic"},
-        {"/run", "/run"}, {"/output", "/output"}};
+    const std::pair<const char*, const char*> map[] = {{"/materials/0", "/material"},
+                                                       {"/grains/0/size", "/size"},
+                                                       {"/grains/0/placement/volume_fraction", "/volume_fraction"},
+                                                       {"/grains/0/placement/area_fraction", "/area_fraction"},
+                                                       {"/grains/0", "/size"},
+                                                       {"/domain", "/cell/size"},
+                                                       {"/magnetic/field", "/field"},
+                                                       {"/magnetic", "/magnetic"},
+                                                       {"/run", "/run"},
+                                                       {"/output", "/output"}};
     for (const auto& [from, to] : map)
         if (p.rfind(from, 0) == 0) {
             std::string rest = p.substr(std::string(from).size());

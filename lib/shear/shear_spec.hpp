@@ -2,10 +2,9 @@
 // The shear-scene file (docs/shear.md): a compact description of a shear-cell experiment - cell,
 // suspension, field, rate ladder, measurement window - read and checked before any work, and
 // expanded into an engine scene (the same force engine `mrjam run` uses).
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/vec3.hpp"
 #include "shear/shear_tiers.hpp"
@@ -18,11 +17,11 @@ struct ShearSpec {
     std::string tier;
     std::uint64_t seed = 1;
 
-    Vec3 cell{};                  // m; x, y periodic, z between the walls (or periodic, Lees-Edwards)
+    Vec3 cell{};  // m; x, y periodic, z between the walls (or periodic, Lees-Edwards)
     // "rafts": frozen layers against two walls carry the shear (the source's cell);
     // "lees_edwards": periodic in z too, the images across z slide at rate * Z (no walls, no rafts).
     bool lees_edwards = false;
-    double raft_thickness = 0;    // m, frozen layer at the bottom and at the top (0 with Lees-Edwards)
+    double raft_thickness = 0;  // m, frozen layer at the bottom and at the top (0 with Lees-Edwards)
     double volume_fraction = 0.3;
     bool monolayer = false;       // one layer of grains in the x-z plane (y: thickness, not periodic)
     double area_fraction = 0.5;   // a monolayer's disc area / plane area
@@ -33,26 +32,26 @@ struct ShearSpec {
     double viscosity = 0;
     std::string dissipation = "stokes_drag";  // or "contact_damping"
     double contact_damping = 0;               // N s/m, for contact_damping
-    double flux_density = 0;      // T
+    double flux_density = 0;                  // T
     Vec3 field_direction{0, 0, 1};
-    nlohmann::json magnetic;      // engine "magnetic" block without the field
+    nlohmann::json magnetic;              // engine "magnetic" block without the field
     std::string saturation = "material";  // or "none" (linear induced moments, as the source)
     double stiffness_scale = 1, density_scale = 1;
-    nlohmann::json run;           // engine "run" block (timestep settings)
+    nlohmann::json run;  // engine "run" block (timestep settings)
 
     // Magnetisation: run until chains settle (see settled() in shear_cell.cpp).
-    double magnetise_check_every = 0;  // s between checks
-    int magnetise_window = 5;          // checks in the window
-    double magnetise_tolerance = 0.02; // max relative spread over the window
+    double magnetise_check_every = 0;             // s between checks
+    int magnetise_window = 5;                     // checks in the window
+    double magnetise_tolerance = 0.02;            // max relative spread over the window
     double magnetise_min = 0, magnetise_max = 0;  // s
-    double field_ramp = 0;             // s, linear rise of the field from zero at the start
+    double field_ramp = 0;                        // s, linear rise of the field from zero at the start
 
-    std::vector<double> rates;         // 1/s, decreasing
-    std::vector<double> wall_speeds;   // m/s, each raft moves at +-v
+    std::vector<double> rates;        // 1/s, decreasing
+    std::vector<double> wall_speeds;  // m/s, each raft moves at +-v
     double strain_first = 0, strain_per_rate = 0;
     long steps_first = 0, steps_per_rate = 0;  // > 0: fixed steps instead of strain
     int samples_per_rate = 40;
-    double window_fraction = 0.5;      // last fraction of each rate's samples that is averaged
+    double window_fraction = 0.5;  // last fraction of each rate's samples that is averaged
     int blocks = 5;
     double bingham_min_rate = 200;
 
@@ -60,7 +59,7 @@ struct ShearSpec {
     double sweep_rate = 100;
     double sweep_strain = 0.1;
 
-    nlohmann::json experiment;         // reference data to compare with (echoed, plotted)
+    nlohmann::json experiment;  // reference data to compare with (echoed, plotted)
     std::string output_directory = ".";
     double progress_interval = 5;
     double checkpoint_every_seconds = 600;

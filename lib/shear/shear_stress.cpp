@@ -31,27 +31,31 @@ double contact_moment(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.contacts;
     double sum = 0;
-    for_each_pair_with_free_grain(p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
-        const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
-        ContactInput in = grain_pair_input(d, r2, p.radius[i], p.radius[j], p.mass[i], p.mass[j], dv,
-                                           p.angular_velocity[i], p.angular_velocity[j]);
-        in.rolling_inertia = 1.0 / (1.0 / p.rolling_inertia(i) + 1.0 / p.rolling_inertia(j));
-        ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
-        ContactOutput out;
-        hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
-        const double wgt = weight(d, list.image[k]);
-        sum += wgt * out.force_on_i.x;
-        if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
-    });
+    for_each_pair_with_free_grain(
+        p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
+            const Vec3 dv = p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k]);
+            ContactInput in = grain_pair_input(d, r2, p.radius[i], p.radius[j], p.mass[i], p.mass[j], dv,
+                                               p.angular_velocity[i], p.angular_velocity[j]);
+            in.rolling_inertia = 1.0 / (1.0 / p.rolling_inertia(i) + 1.0 / p.rolling_inertia(j));
+            ContactHistory h = list.touching[k] ? list.history[k] : ContactHistory{};
+            ContactOutput out;
+            hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
+            const double wgt = weight(d, list.image[k]);
+            sum += wgt * out.force_on_i.x;
+            if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
+        });
     return sum;
 }
 
 template <RollingModel Rolling, class Weight>
 double contact_moment_cohesion(const System& s, Weight w) {
     switch (s.physics.cohesion) {
-        case CohesionModel::none: return contact_moment<Rolling, CohesionModel::none>(s, w);
-        case CohesionModel::sjkr: return contact_moment<Rolling, CohesionModel::sjkr>(s, w);
-        case CohesionModel::dmt: return contact_moment<Rolling, CohesionModel::dmt>(s, w);
+        case CohesionModel::none:
+            return contact_moment<Rolling, CohesionModel::none>(s, w);
+        case CohesionModel::sjkr:
+            return contact_moment<Rolling, CohesionModel::sjkr>(s, w);
+        case CohesionModel::dmt:
+            return contact_moment<Rolling, CohesionModel::dmt>(s, w);
     }
     return 0;
 }
@@ -60,9 +64,12 @@ template <class Weight>
 double contact_moment_any(const System& s, Weight w) {
     if (!s.physics.contact) return 0;
     switch (s.physics.rolling) {
-        case RollingModel::none: return contact_moment_cohesion<RollingModel::none>(s, w);
-        case RollingModel::epsd: return contact_moment_cohesion<RollingModel::epsd>(s, w);
-        case RollingModel::sds: return contact_moment_cohesion<RollingModel::sds>(s, w);
+        case RollingModel::none:
+            return contact_moment_cohesion<RollingModel::none>(s, w);
+        case RollingModel::epsd:
+            return contact_moment_cohesion<RollingModel::epsd>(s, w);
+        case RollingModel::sds:
+            return contact_moment_cohesion<RollingModel::sds>(s, w);
     }
     return 0;
 }
@@ -82,13 +89,14 @@ double magnetic_moment_sum(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.magnetic.pairs;
     double sum = 0;
-    for_each_pair_with_free_grain(p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
-        const double inv_r2 = 1.0 / r2;
-        const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
-        const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
-        const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
-        sum += weight(d, list.image[k]) * force.x;
-    });
+    for_each_pair_with_free_grain(
+        p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
+            const double inv_r2 = 1.0 / r2;
+            const double c = inv_r2 * std::sqrt(inv_r2) / (4.0 * M_PI);
+            const Vec3 mi = p.dipole_moment[i], mj = p.dipole_moment[j];
+            const Vec3 force = dipole_pair_force(mi, mj, d, inv_r2, c, dot(mi, d), dot(mj, d));
+            sum += weight(d, list.image[k]) * force.x;
+        });
     return sum;
 }
 
@@ -103,11 +111,15 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
     double f_upper = 0, f_lower = 0, drag_moment = 0, kinetic = 0;
     const double z_mid = 0.5 * (z_lower + z_upper);
     for (std::size_t i = 0; i < p.size(); ++i) {
-        if (p.raft[i] == upper_raft && upper_raft >= 0) f_upper += p.force[i].x;
-        else if (p.raft[i] == lower_raft && lower_raft >= 0) f_lower += p.force[i].x;
+        if (p.raft[i] == upper_raft && upper_raft >= 0)
+            f_upper += p.force[i].x;
+        else if (p.raft[i] == lower_raft && lower_raft >= 0)
+            f_lower += p.force[i].x;
         else if (p.raft[i] < 0) {
             const Vec3 u = s.flow->velocity(p.position[i], s.time);
-            if (s.physics.drag) drag_moment += (p.position[i].z - z_mid) * (-(p.velocity[i].x - u.x) * 6.0 * M_PI * s.physics.viscosity * p.radius[i]);
+            if (s.physics.drag)
+                drag_moment += (p.position[i].z - z_mid) *
+                               (-(p.velocity[i].x - u.x) * 6.0 * M_PI * s.physics.viscosity * p.radius[i]);
             kinetic += p.mass[i] * (p.velocity[i].x - u.x) * p.velocity[i].z;
         }
     }
@@ -116,7 +128,8 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
     out.upper = -f_upper / area;
     out.lower = f_lower / area;
     const double volume = area * (z_upper - z_lower);
-    out.bulk = -(contact_moment_any(s, separation_z) + magnetic_moment_sum(s, separation_z) + drag_moment + kinetic) / volume;
+    out.bulk =
+        -(contact_moment_any(s, separation_z) + magnetic_moment_sum(s, separation_z) + drag_moment + kinetic) / volume;
     return out;
 }
 
