@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The jam predictor's measured table (docs/jam.md, "Where it stands") from finished reports.
 
-One row per `mrjam jam` report: case, tier, seed, grains, outcome, time to arrest, grains passed
+One row per `mrjam jam` report, and one per later seed of a `--seeds N` report: case, tier, seed, grains, outcome, time to arrest, grains passed
 before it, the grain flux over the last 0.5 ms of field (for a flow the field did not stop), the
 hold, wall time and grain-steps per second. Reports written before `flux_share_with_field`
 existed get the flux from their flux history, by the same count-at-time rule as the C++
@@ -37,12 +37,17 @@ def case_name(inputs):
     valve = inputs.get("valve", {})
     # The resolved scene gives the diameter; the constriction's name is its ratio to 44 um.
     name = valve.get("constriction") or f"{valve.get('constriction_diameter', 0) / 44e-6:.0f}x"
-    supply = ", batch" if inputs.get("model", {}).get("supply") == "batch" else ""
+    model = inputs.get("model", {})
+    supply = ", batch" if model.get("supply") == "batch" else ""
+    # The frictionless slab is the default; a frictional one is a different valve model.
+    faces = ""
+    if model.get("slab_faces") == "frictional":
+        faces = f", {model.get('slab_thickness_diameters', 0):g}-diameter slab, frictional faces"
     youngs = inputs.get("material", {}).get("youngs_modulus", 1e9)
     stiffness = f", E {youngs / 1e9:g} GPa" if youngs != 1e9 else ""  # the examples' 1 GPa goes unsaid
-    interval = inputs.get("model", {}).get("magnetic_update_interval", 1)
+    interval = model.get("magnetic_update_interval", 1)
     hold = f", magnetic forces held {interval} steps" if interval > 1 else ""
-    return f"{psd} {name}, {where}{supply}{stiffness}{hold}"
+    return f"{psd} {name}, {where}{faces}{supply}{stiffness}{hold}"
 
 
 def grains_words(res):
@@ -85,6 +90,22 @@ def row(r):
     ]
 
 
+def seed_rows(r):
+    """The later seeds of a `--seeds N` report, from their summary records (`seeds`): no grain
+    count, history or wall time of their own, and the flux over the last arrest window only."""
+    first = row(r)
+    window = r.get("inputs_jam", {}).get("protocol", {}).get("arrest_window", 0)
+    rows = []
+    for rec in r.get("seeds", [])[1:]:
+        arrest = rec.get("time_to_arrest_s")
+        share = rec.get("flux_share_last_window")
+        flux = f"{share * 100:.0f} % (last {window * 1e3:g} ms)" if share is not None and arrest is None else "-"
+        rows.append(first[:2] + [str(rec.get("seed", "?")), "-", rec.get("outcome", rec.get("status", "?")),
+                                 f"{arrest * 1e3:.2f} ms" if arrest is not None else "-", "-", flux,
+                                 hold_words(rec.get("hold")), "-", "-"])
+    return rows
+
+
 def main(paths):
     if not paths:
         sys.exit(__doc__)
@@ -98,7 +119,8 @@ def main(paths):
             if report.get("mode") != "jam":
                 print(f"| {p}: not a `mrjam jam` report (a design's runs are under its directory) |" + " |" * (len(head) - 1))
                 continue
-            print("| " + " | ".join(row(report)) + " |")
+            for cells in [row(report)] + seed_rows(report):
+                print("| " + " | ".join(cells) + " |")
         except (OSError, ValueError, KeyError, TypeError) as e:
             print(f"| {p}: unreadable ({e}) |" + " |" * (len(head) - 1))
 
