@@ -246,10 +246,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 record["jam_report"] = seed_report.string();
                 progress.runs.push_back(record);
                 if (!args->quiet) {
-                    std::cerr << "[design] " << name << " seed " << seed << ": "
-                              << record["outcome"].get<std::string>();
-                    if (o.time_to_arrest >= 0) std::cerr << ", arrest at " << o.time_to_arrest * 1e3 << " ms of field";
-                    std::cerr << "\n";
+                    std::cerr << "[design] " << name << " seed " << seed << ": " << seed_summary(record) << "\n";
                 }
                 save_progress();
             }

@@ -166,6 +166,9 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             record["seed"] = first_seed + k;
             record["status"] = outcome.report["status"];
             runs.push_back(record);
+            // Each seed's answer as it comes: a campaign of eight seeds runs for hours.
+            if (!args->quiet && seeds > 1 && outcome.exit_status == 0)
+                std::cerr << "[jam] seed " << first_seed + k << ": " << seed_summary(record) << "\n";
             if (k == 0) report = outcome.report;
             if (outcome.exit_status != 0) {
                 nlohmann::json partial = outcome.report;

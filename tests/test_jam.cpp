@@ -8,6 +8,7 @@
 #include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/jam_outcome.hpp"
+#include "jam/jam_run.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"
 #include "jam/throat_flux.hpp"
@@ -252,6 +253,25 @@ TEST_SUITE("unit") {
         JamProtocol same;
         same.hold_pressure = 105e3;
         CHECK(same.supply_after_arrest(1e-3, 105e3) == 105e3);
+    }
+
+    TEST_CASE("seed summary: a seed's progress line names its outcome, arrest and hold, or its flux") {
+        const json none(nullptr);
+        json broke = {{"outcome", "fail-no-hold"},
+                      {"time_to_arrest_s", 0.64e-3},
+                      {"hold", {{"held", false}, {"gave_way_after_s", 0.105e-3}}}};
+        CHECK(seed_summary(broke) == "fail-no-hold, arrest at 0.64 ms of field, gave way 0.105 ms into the hold");
+        json held = {{"outcome", "success"},
+                     {"time_to_arrest_s", 0.3e-3},
+                     {"hold", {{"held", true}, {"gave_way_after_s", none}}}};
+        CHECK(seed_summary(held) == "success, arrest at 0.3 ms of field, held");
+        json no_hold = {{"outcome", "success"}, {"time_to_arrest_s", 0.3e-3}, {"hold", none}};
+        CHECK(seed_summary(no_hold) == "success, arrest at 0.3 ms of field");
+        json flowed = {{"outcome", "fail-no-jam"}, {"time_to_arrest_s", none}, {"flux_share_last_window", 0.6393}};
+        CHECK(seed_summary(flowed) == "fail-no-jam, grain flux at 64 % of the no-field flux over the last window");
+        // A seed stopped before its outcome has only a status.
+        CHECK(seed_summary(json{{"status", "interrupted"}}) == "interrupted");
+        CHECK(seed_summary(json{{"outcome", none}, {"status", "blew up"}}) == "blew up");
     }
 
     TEST_CASE("jam outcome: Table 3.2's words, and a hold that breaks is no jam") {

@@ -314,6 +314,30 @@ nlohmann::json jam_seed_record(const JamOutcome& outcome) {
             {"warnings", outcome.report.value("warnings", nlohmann::json::array())}};
 }
 
+std::string seed_summary(const nlohmann::json& record) {
+    const nlohmann::json none(nullptr);
+    auto word = [&](const char* key) {
+        const nlohmann::json& w = record.value(key, none);
+        return w.is_string() ? w.get<std::string>() : std::string();
+    };
+    std::string line = !word("outcome").empty() ? word("outcome") : !word("status").empty() ? word("status") : "?";
+    const nlohmann::json& arrest = record.value("time_to_arrest_s", none);
+    if (arrest.is_number()) {
+        line += ", arrest at " + format_number(arrest.get<double>() * 1e3) + " ms of field";
+        const nlohmann::json& hold = record.value("hold", none);
+        if (hold.is_object() && hold.value("gave_way_after_s", none).is_number())
+            line += ", gave way " + format_number(hold["gave_way_after_s"].get<double>() * 1e3) + " ms into the hold";
+        else if (hold.is_object() && hold.value("held", false))
+            line += ", held";
+        return line;
+    }
+    const nlohmann::json& share = record.value("flux_share_last_window", none);
+    if (share.is_number())
+        line += ", grain flux at " + format_number(std::round(share.get<double>() * 100)) +
+                " % of the no-field flux over the last window";
+    return line;
+}
+
 JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& options) {
     nlohmann::json engine = js.engine_scene;
     engine["seed"] = seed;

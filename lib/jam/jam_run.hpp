@@ -35,4 +35,8 @@ JamOutcome run_jam(const JamScene& scene, long long seed, const JamRunOptions& o
 // whether it stopped the flow, the hold, the closed valve's leak and the seed's warnings.
 nlohmann::json jam_seed_record(const JamOutcome& outcome);
 
+// A seed record as a progress line says it: "fail-no-hold, arrest at 0.64 ms of field, gave way
+// 0.1 ms into the hold", "fail-no-jam, grain flux at 64 % of the no-field flux over the last window".
+std::string seed_summary(const nlohmann::json& record);
+
 }  // namespace mrjam
