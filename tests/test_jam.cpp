@@ -257,10 +257,11 @@ TEST_SUITE("unit") {
 
     TEST_CASE("seed summary: a seed's progress line names its outcome, arrest and hold, or its flux") {
         const json none(nullptr);
+        // Times to 3 significant digits: a run's arrest time is only known to an observation step.
         json broke = {{"outcome", "fail-no-hold"},
-                      {"time_to_arrest_s", 0.64e-3},
-                      {"hold", {{"held", false}, {"gave_way_after_s", 0.105e-3}}}};
-        CHECK(seed_summary(broke) == "fail-no-hold, arrest at 0.64 ms of field, gave way 0.105 ms into the hold");
+                      {"time_to_arrest_s", 0.493717e-3},
+                      {"hold", {{"held", false}, {"gave_way_after_s", 0.12987e-3}}}};
+        CHECK(seed_summary(broke) == "fail-no-hold, arrest at 0.494 ms of field, gave way 0.13 ms into the hold");
         json held = {{"outcome", "success"},
                      {"time_to_arrest_s", 0.3e-3},
                      {"hold", {{"held", true}, {"gave_way_after_s", none}}}};

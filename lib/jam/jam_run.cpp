@@ -323,10 +323,11 @@ std::string seed_summary(const nlohmann::json& record) {
     std::string line = !word("outcome").empty() ? word("outcome") : !word("status").empty() ? word("status") : "?";
     const nlohmann::json& arrest = record.value("time_to_arrest_s", none);
     if (arrest.is_number()) {
-        line += ", arrest at " + format_number(arrest.get<double>() * 1e3) + " ms of field";
+        line += ", arrest at " + format_number(arrest.get<double>() * 1e3, 3) + " ms of field";
         const nlohmann::json& hold = record.value("hold", none);
         if (hold.is_object() && hold.value("gave_way_after_s", none).is_number())
-            line += ", gave way " + format_number(hold["gave_way_after_s"].get<double>() * 1e3) + " ms into the hold";
+            line +=
+                ", gave way " + format_number(hold["gave_way_after_s"].get<double>() * 1e3, 3) + " ms into the hold";
         else if (hold.is_object() && hold.value("held", false))
             line += ", held";
         return line;
