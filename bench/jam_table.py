@@ -45,9 +45,11 @@ def case_name(inputs):
         faces = f", {model.get('slab_thickness_diameters', 0):g}-diameter slab, frictional faces"
     youngs = inputs.get("material", {}).get("youngs_modulus", 1e9)
     stiffness = f", E {youngs / 1e9:g} GPa" if youngs != 1e9 else ""  # the examples' 1 GPa goes unsaid
+    cutoff = model.get("magnetic_cutoff_diameters")
+    cutoff = f", dipole cutoff {cutoff:g} d" if cutoff else ""  # given in the scene; else the tier's
     interval = model.get("magnetic_update_interval", 1)
     hold = f", magnetic forces held {interval} steps" if interval > 1 else ""
-    return f"{psd} {name}, {where}{faces}{supply}{stiffness}{hold}"
+    return f"{psd} {name}, {where}{faces}{supply}{stiffness}{cutoff}{hold}"
 
 
 def grains_words(res):
