@@ -328,7 +328,7 @@ std::string seed_summary(const nlohmann::json& record) {
         if (hold.is_object() && hold.value("gave_way_after_s", none).is_number())
             line +=
                 ", gave way " + format_number(hold["gave_way_after_s"].get<double>() * 1e3, 3) + " ms into the hold";
-        else if (hold.is_object() && hold.value("held", false))
+        else if (hold.is_object() && hold.value("held", none) == true)
             line += ", held";
         return line;
     }
