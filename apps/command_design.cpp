@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "core/format.hpp"
 #include "design_progress.hpp"
 #include "design_scenes.hpp"
 #include "jam/jam_checkpoint.hpp"
@@ -281,7 +282,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             row.update(seed_probabilities(tally));
             if (!args->quiet)
                 std::cerr << "[design] " << name << ": " << tally.jams << " jam(s) in " << tally.judged
-                          << " seed(s) judged; open flow " << flow.flow_rate * 6e7 << " ml/min\n";
+                          << " seed(s) judged; open flow " << format_number(flow.flow_rate * 6e7, 3) << " ml/min\n";
             progress.rows.push_back(row);
             progress.field = nullptr;
             progress.runs = json::array();
