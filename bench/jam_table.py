@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """The jam predictor's measured table (docs/jam.md, "Where it stands") from finished reports.
 
-One row per `mrjam jam` report, and one per later seed of a `--seeds N` report: case, tier, seed, grains, outcome, time to arrest, grains passed
-before it, the grain flux over the last 0.5 ms of field (for a flow the field did not stop), the
-hold, wall time and grain-steps per second. Reports written before `flux_share_with_field`
-existed get the flux from their flux history, by the same count-at-time rule as the C++
-(lib/jam/throat_flux.cpp).
+One row per `mrjam jam` report, and one per later seed of a `--seeds N` report: case, tier,
+seed, grains, outcome, time to arrest, grains passed before it, the grain flux over the last
+0.5 ms of field (for a flow the field did not stop), the hold, wall time and grain-steps per
+second. Reports written before `flux_share_with_field` existed get the flux from their flux
+history, by the same count-at-time rule as the C++ (lib/jam/throat_flux.cpp).
 
     python3 bench/jam_table.py out/jam_tiers/*.report.json
 """

@@ -320,7 +320,9 @@ std::string seed_summary(const nlohmann::json& record) {
         const nlohmann::json& w = record.value(key, none);
         return w.is_string() ? w.get<std::string>() : std::string();
     };
-    std::string line = !word("outcome").empty() ? word("outcome") : !word("status").empty() ? word("status") : "?";
+    std::string line = word("outcome");
+    if (line.empty()) line = word("status");
+    if (line.empty()) line = "?";
     const nlohmann::json& arrest = record.value("time_to_arrest_s", none);
     if (arrest.is_number()) {
         line += ", arrest at " + format_number(arrest.get<double>() * 1e3, 3) + " ms of field";
@@ -334,7 +336,7 @@ std::string seed_summary(const nlohmann::json& record) {
     }
     const nlohmann::json& share = record.value("flux_share_last_window", none);
     if (share.is_number())
-        line += ", grain flux at " + format_number(std::round(share.get<double>() * 100)) +
+        line += ", grain flux at " + std::to_string(std::lround(100 * share.get<double>())) +
                 " % of the no-field flux over the last window";
     return line;
 }
