@@ -373,20 +373,6 @@ struct Setting {
     double diameters = 5;
 };
 
-const char* mutual_policy_label(MutualPolicy p) {
-    switch (p) {
-        case MutualPolicy::fixed:
-            return "fixed";
-        case MutualPolicy::lagged:
-            return "lagged";
-        case MutualPolicy::iterations:
-            return "iterations";
-        case MutualPolicy::converged:
-            return "converged";
-    }
-    return "?";
-}
-
 Setting make_setting(MutualPolicy p, int iterations, double tolerance, double diameters, const std::string& name) {
     char label[64];
     std::snprintf(label, sizeof label, "%s, %g d", name.c_str(), diameters);
@@ -602,7 +588,7 @@ nlohmann::json print_comparison(const Comparison& c, const AccuracyArgs& args, b
                     percent(a.obs.mean_force, rs.obs.mean_force), stress_err(a.obs.sigma_zz, rs.obs.sigma_zz, rs),
                     stress_err(a.obs.sigma_xx, rs.obs.sigma_xx, rs));
         nlohmann::json row = {{"setting", c.settings[k].label},
-                              {"policy", mutual_policy_label(c.settings[k].policy)},
+                              {"policy", policy_name(c.settings[k].policy)},
                               {"iterations", c.settings[k].iterations},
                               {"tolerance", c.settings[k].tolerance},
                               {"cutoff_diameters", c.settings[k].diameters},

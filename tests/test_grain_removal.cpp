@@ -8,6 +8,7 @@
 #include "grain_removal.hpp"
 #include "integrator.hpp"
 #include "scene/scene.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -31,14 +32,7 @@ mrjam::json two_piles_scene(bool with_second) {
     return {
         {"seed", 5},
         {"domain", {{"lo", {0, 0, 0}}, {"hi", {0.018, 0.006, 0.008}}, {"periodic", "y"}}},
-        {"materials",
-         {{{"name", "glass"},
-           {"density", 2500},
-           {"youngs_modulus", 1e7},
-           {"restitution", 0.5},
-           {"friction", 0.4},
-           {"rolling_friction", 0.1},
-           {"rolling_damping", 0.2}}}},
+        {"materials", mrjam::json::array({mrjam_test::soft_rolling_glass()})},
         {"contact", {{"rolling", "epsd"}}},
         {"gravity", {0, 0, -9.81}},
         {"walls",

@@ -20,6 +20,34 @@ using namespace mrjam;
 using namespace mrjam_test;
 using nlohmann::json;
 
+namespace {
+
+// The short tube the command-line runs use: 1.1 mm of tube upstream of the throat, 0.3 mm downstream
+// (a few thousand grains at the quick tier). `extra` adds or replaces model keys.
+json short_tube(const json& extra = json::object()) {
+    json model = {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}};
+    model.update(extra);
+    return model;
+}
+
+// A protocol over in a few hundred quick steps: 0.05 ms without field and 0.05 ms with it,
+// judged on 0.02 ms windows, and 0.02 ms to release.
+json brief_protocol() {
+    return {
+        {"flow_time", "0.05 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"}, {"release_time", "0.02 ms"}};
+}
+
+// The design's coarse field solve (seconds with GetDP) and a brief pressure-driven jam run in the
+// short tube, for the 30x constriction.
+json brief_design(const std::string& output_directory) {
+    return {{"constrictions", {"30x"}},
+            {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
+            {"jam", {{"model", short_tube()}, {"fluid", {{"flow", "pressure"}}}, {"protocol", brief_protocol()}}},
+            {"output_directory", output_directory}};
+}
+
+}  // namespace
+
 TEST_SUITE("unit") {
     TEST_CASE("throat flux: crossings counted with sign, periodic wraps ignored") {
         System s;
@@ -413,7 +441,7 @@ TEST_SUITE("cli") {
         expect_mode_refused(
             dir, "jam", "sparse_observations",
             {{"valve", {{"constriction", "30x"}}},
-             {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+             {"model", short_tube()},
              {"protocol", {{"flow_time", "0.3 ms"}, {"arrest_window", "0.05 ms"}, {"observe_every_steps", 2000}}}},
             "/protocol/observe_every_steps", "--fidelity quick");
     }
@@ -424,7 +452,7 @@ TEST_SUITE("cli") {
     TEST_CASE("jam: undetermined seeds are left out of the probabilities") {
         TempDir dir;
         const json scene = {{"valve", {{"constriction", "30x"}}},
-                            {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                            {"model", short_tube()},
                             {"fluid", {{"bore_speed", "1e-6 m/s"}}},
                             {"protocol",
                              {{"flow_time", "0.02 ms"},
@@ -582,9 +610,9 @@ TEST_SUITE("cli") {
         // A tube length the scene fixes is kept, and the jet is what fits in it.
         json fixed = scene;
         fixed["model"] = {{"downstream_length", "0.5 mm"}};
-        const JamScene short_tube = read_jam_scene(fixed, "quick", ".");
-        CHECK(short_tube.valve.downstream_length == rel(0.5e-3));
-        CHECK(short_tube.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
+        const JamScene fixed_tube = read_jam_scene(fixed, "quick", ".");
+        CHECK(fixed_tube.valve.downstream_length == rel(0.5e-3));
+        CHECK(fixed_tube.flow.jet_length == rel(0.5e-3 - 0.1e-3 - 2 * 88e-6));
     }
 
     TEST_CASE(
@@ -680,12 +708,8 @@ TEST_SUITE("cli") {
     TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throat picture") {
         TempDir dir;
         const json scene = {{"valve", {{"constriction", "30x"}}},
-                            {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
-                            {"protocol",
-                             {{"flow_time", "0.05 ms"},
-                              {"max_time", "0.05 ms"},
-                              {"arrest_window", "0.02 ms"},
-                              {"release_time", "0.02 ms"}}},
+                            {"model", short_tube()},
+                            {"protocol", brief_protocol()},
                             {"output", {{"directory", dir.file("out")}}}};
         const Result r = run_mode(dir, "jam", "jam", scene, "--fidelity quick");
         CAPTURE(r.err);
@@ -731,7 +755,7 @@ TEST_SUITE("cli") {
     TEST_CASE("jam: a finite batch drains through the outlet, conserving the grains it counts") {
         TempDir dir;
         json scene = {{"valve", {{"constriction", "30x"}}},
-                      {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.5 mm"}, {"supply", "batch"}}},
+                      {"model", short_tube({{"downstream_length", "0.5 mm"}, {"supply", "batch"}})},
                       {"field", {{"flux_density", "0 mT"}}},
                       {"protocol", {{"flow_time", "0.15 ms"}, {"max_time", "0.05 ms"}, {"arrest_window", "0.02 ms"}}},
                       {"output", {{"directory", dir.file("out")}}}};
@@ -760,9 +784,9 @@ TEST_SUITE("cli") {
 
         // An outlet with no room past the throat is refused, naming the key to lengthen.
         scene["model"]["downstream_length"] = "0.2 mm";
-        const Result short_tube = run_mode(dir, "jam", "short", scene, "--fidelity quick");
-        CHECK(short_tube.exit_code == 2);
-        CHECK(short_tube.err.find("/model/downstream_length") != std::string::npos);
+        const Result no_room = run_mode(dir, "jam", "short", scene, "--fidelity quick");
+        CHECK(no_room.exit_code == 2);
+        CHECK(no_room.err.find("/model/downstream_length") != std::string::npos);
     }
 
     // "Until arrest or steady flow": with protocol/steady_window the field period ends as soon as
@@ -774,7 +798,7 @@ TEST_SUITE("cli") {
     TEST_CASE("jam: a steady flow ends the field period before max_time") {
         TempDir dir;
         const json scene = {{"valve", {{"constriction", "30x"}}},
-                            {"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
+                            {"model", short_tube()},
                             {"field", {{"flux_density", "0 mT"}}},
                             {"protocol",
                              {{"flow_time", "0.3 ms"},
@@ -842,18 +866,7 @@ TEST_SUITE("cli") {
             return;
         }
         TempDir dir;
-        const json design = {
-            {"constrictions", {"30x"}},
-            {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
-            {"jam",
-             {{"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
-              {"fluid", {{"flow", "pressure"}}},
-              {"protocol",
-               {{"flow_time", "0.05 ms"},
-                {"max_time", "0.05 ms"},
-                {"arrest_window", "0.02 ms"},
-                {"release_time", "0.02 ms"}}}}},
-            {"output_directory", dir.file("design")}};
+        const json design = brief_design(dir.file("design"));
         write_text(dir.file("design.json"), design.dump());
         const Result r =
             mrjam_test::mrjam(dir, "design " + quote(dir.file("design.json")) + " --report " +
@@ -961,19 +974,9 @@ TEST_SUITE("cli") {
         }
         TempDir dir;
         auto design_in = [&](const std::string& out) {
-            return json{
-                {"constrictions", {"30x"}},
-                {"seeds", 2},
-                {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
-                {"jam",
-                 {{"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
-                  {"fluid", {{"flow", "pressure"}}},
-                  {"protocol",
-                   {{"flow_time", "0.05 ms"},
-                    {"max_time", "0.05 ms"},
-                    {"arrest_window", "0.02 ms"},
-                    {"release_time", "0.02 ms"}}}}},
-                {"output_directory", dir.file(out)}};
+            json design = brief_design(dir.file(out));
+            design["seeds"] = 2;
+            return design;
         };
         write_text(dir.file("full.json"), design_in("full").dump());
         const Result full =

@@ -13,6 +13,7 @@
 #include "shear/block_average.hpp"
 #include "shear/shear_spec.hpp"
 #include "shear/shear_stress.hpp"
+#include "test_support.hpp"
 
 using namespace mrjam;
 using json = nlohmann::json;
@@ -22,15 +23,7 @@ TEST_SUITE("physics") {
         const json input = {
             {"size", {{"distribution", "single"}, {"diameter", "4 um"}}},
             {"cell", {{"size", {"30 um", "30 um", "30 um"}}, {"boundaries", "lees_edwards"}}},
-            {"material",
-             {{"density", "7800 kg/m3"},
-              {"youngs_modulus", "1 GPa"},
-              {"poisson_ratio", 0.278},
-              {"restitution", 0.1},
-              {"friction", 0.1},
-              {"rolling_friction", 0.1},
-              {"rolling_damping", 0.1},
-              {"cohesion_energy_density", "60 kJ/m3"}}},
+            {"material", mrjam_test::chapter2_iron()},
             {"fluid", {{"viscosity", "10 mPa s"}}},
             {"field", {{"flux_density", "300 mT"}}},
             {"output", {{"directory", (std::filesystem::temp_directory_path() / "mrjam_le_stress").string()}}}};

@@ -12,6 +12,7 @@
 #include "shear/shear_cell.hpp"
 #include "shear/shear_spec.hpp"
 #include "shear/shear_stress.hpp"
+#include "test_support.hpp"
 
 using mrjam_test::rel;
 
@@ -137,15 +138,7 @@ TEST_SUITE("physics") {
         const json input = {
             {"size", {{"distribution", "single"}, {"diameter", "4 um"}}},
             {"cell", {{"size", {"40 um", "40 um", "44 um"}}, {"raft_thickness", "5 um"}}},
-            {"material",
-             {{"density", "7800 kg/m3"},
-              {"youngs_modulus", "1 GPa"},
-              {"poisson_ratio", 0.278},
-              {"restitution", 0.1},
-              {"friction", 0.1},
-              {"rolling_friction", 0.1},
-              {"rolling_damping", 0.1},
-              {"cohesion_energy_density", "60 kJ/m3"}}},
+            {"material", mrjam_test::chapter2_iron()},
             {"fluid", {{"viscosity", "10 mPa s"}}},
             {"field", {{"flux_density", "300 mT"}}},
             {"magnetise", {{"min_duration", "3 us"}, {"max_duration", "5 us"}, {"field_ramp", "2 us"}}},

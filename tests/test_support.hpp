@@ -64,6 +64,23 @@ inline void reseal_checkpoint(std::string& bytes) {
     std::memcpy(bytes.data() + body, &sum, sizeof sum);
 }
 
+// A soft (10 MPa) glass with friction and rolling resistance: the material of the engine's
+// bit-for-bit tests, soft enough for a long step and with every contact path in use (the scene
+// adds `"contact": {"rolling": "epsd"}`).
+inline nlohmann::json soft_rolling_glass() {
+    return {{"name", "glass"}, {"density", 2500},         {"youngs_modulus", 1e7}, {"restitution", 0.5},
+            {"friction", 0.4}, {"rolling_friction", 0.1}, {"rolling_damping", 0.2}};
+}
+
+// Chapter 2's carbonyl iron in silicone oil as a shear cell's `material` block (the contact
+// parameters the source fitted to its rheometer data, as in examples/shear_trendler_00-100.json).
+inline nlohmann::json chapter2_iron() {
+    return {{"density", "7800 kg/m3"}, {"youngs_modulus", "1 GPa"},
+            {"poisson_ratio", 0.278},  {"restitution", 0.1},
+            {"friction", 0.1},         {"rolling_friction", 0.1},
+            {"rolling_damping", 0.1},  {"cohesion_energy_density", "60 kJ/m3"}};
+}
+
 struct Result {
     int exit_code = -1;
     std::string out, err;

@@ -8,6 +8,7 @@
 
 #include "integrator.hpp"
 #include "scene/scene.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -15,14 +16,7 @@ mrjam::json tumbler_scene() {
     return {
         {"seed", 11},
         {"domain", {{"lo", {0, 0, 0}}, {"hi", {0.006, 0.006, 0.008}}}},
-        {"materials",
-         {{{"name", "glass"},
-           {"density", 2500},
-           {"youngs_modulus", 1e7},
-           {"restitution", 0.5},
-           {"friction", 0.4},
-           {"rolling_friction", 0.1},
-           {"rolling_damping", 0.2}}}},
+        {"materials", mrjam::json::array({mrjam_test::soft_rolling_glass()})},
         {"contact", {{"rolling", "epsd"}}},
         {"gravity", {0, 0, -9.81}},
         {"walls",
