@@ -14,6 +14,7 @@
 #include "shear/shear_cell.hpp"
 #include "shear/shear_plots.hpp"
 #include "shear/shear_spec.hpp"
+#include "shear/shear_tiers.hpp"
 
 namespace mrjam::cli {
 
@@ -85,7 +86,7 @@ void add_shear_command(CLI::App& app, int& exit_status) {
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
-            ->check(CLI::IsMember({"quick", "standard", "paper"}))
+            ->check(CLI::IsMember(shear_tier_names()))
             ->capture_default_str();
     cmd->callback([args, fidelity, max_runs, &exit_status] {
         if (args->scene.empty() == args->resume.empty())

@@ -370,6 +370,15 @@ TEST_SUITE("cli") {
         const std::string huge = dir.file("huge.map");
         write_text(huge, "mrjam-fieldmap 1\n4096 4096 4096\n-1e-4 -1e-3 -1e-3\n1e-6 1e-6 1e-6\n0 0.2 0\n");
         refused("huge_map", {{"field", {{"type", "map"}, {"file", huge}}}}, "/field/file");
+        // Tesla for millitesla: no magnet puts 230 T into a valve, and a map scaled past 10 T is refused too.
+        refused("tesla_slip", {{"field", {{"flux_density", "230 T"}}}},
+                "/field/flux_density: 230 T is more than any magnet puts into a valve (10 T at most; an EPM gives "
+                "0.2-0.8 T): did you mean mT?");
+        const std::string wide = dir.file("wide.map");
+        write_text(wide, "mrjam-fieldmap 1\n2 2 2\n-1e-3 -2e-3 -2e-3\n2e-3 4e-3 4e-3\n" +
+                             std::string("0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.3 0\n"));
+        refused("map_scale", {{"field", {{"type", "map"}, {"file", wide}, {"scale", 40}}}},
+                "/field/scale: raises the map's strongest node to 12 T");
         refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}},
                 "/grains/psd");
         refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
@@ -527,6 +536,28 @@ TEST_SUITE("cli") {
         CHECK(read_jam_scene(longer, "standard", ".").flow.jet_length == rel(0.8e-3));
         CHECK(read_jam_scene(longer, "standard", ".").engine_scene["fluid"]["flow"]["jet_length"].get<double>() ==
               rel(0.8e-3));
+    }
+
+    // A lone sphere of permeability mu_r magnetises to M = 3 beta H0, beta = (mu_r - 1)/(mu_r + 2), and
+    // saturates at M_s: B0 = mu0 M_s / (3 beta) = 0.7142 T for iron (mu_r 1000, M_s 1.7e6 A/m).
+    TEST_CASE("jam scene: the field at which a lone grain saturates, and the warning above it") {
+        const json scene = {{"valve", {{"constriction", "30x"}}}};
+        const JamScene iron = read_jam_scene(scene, "quick", ".");
+        const double beta = 999.0 / 1002.0;
+        CHECK(iron.lone_grain_saturation_flux_density == rel(1.25663706212e-6 * 1.7e6 / (3 * beta)).epsilon(1e-12));
+        CHECK(iron.peak_flux_density == rel(0.230));
+        CHECK(saturated_field_warning(iron).empty());
+        json strong = scene;
+        strong["field"] = {{"flux_density", "1 T"}};
+        const std::string w = saturated_field_warning(read_jam_scene(strong, "quick", "."));
+        CHECK(w.find("reaches 1 T at its strongest, above the 0.714 T") != std::string::npos);
+        // A softer saturation lowers the knee in proportion: 0.85e6 A/m saturates at 0.357 T.
+        json soft = scene;
+        soft["material"] = {{"saturation_magnetisation", "0.85e6 A/m"}};
+        CHECK(read_jam_scene(soft, "quick", ".").lone_grain_saturation_flux_density ==
+              rel(0.5 * iron.lone_grain_saturation_flux_density).epsilon(1e-12));
+        CHECK(read_jam_scene(soft, "quick", ".").engine_scene["materials"][0]["saturation_magnetisation"] ==
+              rel(0.85e6));
     }
 
     TEST_CASE("jam scene: the neighbour skin reaches the engine scene, the engine's 0.1 by default") {

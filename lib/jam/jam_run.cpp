@@ -162,7 +162,8 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
             "taken as no jam: arrests can come late after a long steady flow (on the bundled "
             "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
             "outcome with steady_window 0");
-    for (const std::string& w : {sparse_window_warning(st.base_rate, js.protocol), short_jet_warning(js)})
+    for (const std::string& w :
+         {sparse_window_warning(st.base_rate, js.protocol), short_jet_warning(js), saturated_field_warning(js)})
         if (!w.empty()) report["warnings"].push_back(w);
     if (st.undetermined)
         report["warnings"].push_back(
@@ -314,6 +315,17 @@ nlohmann::json jam_seed_record(const JamOutcome& outcome) {
             {"warnings", outcome.report.value("warnings", nlohmann::json::array())}};
 }
 
+// Above the lone-grain saturation field every grain is saturated as soon as the magnet is on: a
+// stronger field then adds nothing to the magnetic forces, which a designer raising the field to
+// make a valve jam should be told.
+std::string saturated_field_warning(const JamScene& js) {
+    if (!(js.peak_flux_density > js.lone_grain_saturation_flux_density)) return {};
+    return "the field reaches " + format_number(js.peak_flux_density, 3) + " T at its strongest, above the " +
+           format_number(js.lone_grain_saturation_flux_density, 3) +
+           " T at which even a lone grain saturates (mu0 M_s / (3 beta), material/saturation_magnetisation): "
+           "where it does, a stronger field adds nothing to the grains' moments or the magnetic forces";
+}
+
 std::string seed_summary(const nlohmann::json& record) {
     const nlohmann::json none(nullptr);
     auto word = [&](const char* key) {
@@ -379,8 +391,8 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     System& s = scene.system;
     const JamProtocol& p = js.protocol;
     check_observation_interval(p, s.dt);
-    if (const std::string w = short_jet_warning(js); options.progress && !w.empty())
-        std::cerr << "[jam] warning: " << w << "\n";
+    for (const std::string& w : {short_jet_warning(js), saturated_field_warning(js)})
+        if (options.progress && !w.empty()) std::cerr << "[jam] warning: " << w << "\n";
     if (options.progress) std::cerr << "[jam] " << s.particles.size() << " grains, time step " << s.dt * 1e9 << " ns\n";
 
     // The magnet is switched on after the no-field flow and off when the flow has arrested.

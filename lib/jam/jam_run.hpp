@@ -39,4 +39,8 @@ nlohmann::json jam_seed_record(const JamOutcome& outcome);
 // 0.1 ms into the hold", "fail-no-jam, grain flux at 64 % of the no-field flux over the last window".
 std::string seed_summary(const nlohmann::json& record);
 
+// The report's warning when the field anywhere exceeds the lone-grain saturation field (where it
+// does, a stronger field adds nothing to the magnetic forces); empty otherwise.
+std::string saturated_field_warning(const JamScene& scene);
+
 }  // namespace mrjam

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -11,12 +12,17 @@
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_engine_scene.hpp"
 #include "magnetic/external_field.hpp"
+#include "magnetic/magnetic_model.hpp"
 #include "scene/material_ranges.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
 
 namespace mrjam {
+
+// No magnet puts more than this into a valve (an EPM gives 0.2-0.8 T, a large electromagnet a few
+// tesla): a uniform field or a scaled map above it is a slip of units ("230 T" for "230 mT").
+constexpr double kLargestFluxDensity = 10.0;
 
 std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper"}; }
 
@@ -178,22 +184,30 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // restitution, Poisson's ratio, rolling resistance and cohesion default to a bare Hertz-Mindlin
     // contact, and Table 2.1's MRF suite is one scene away, examples/valve_mix2_30x_table21.json).
     SceneNode mat = root.object("material");
-    json material = {{"name", "iron"},
-                     {"density", mat.quantity("density", units::density, 7800.0, density_range())},
-                     {"youngs_modulus", mat.quantity("youngs_modulus", units::pressure, 1e9, youngs_modulus_range())},
-                     {"poisson_ratio", mat.number("poisson_ratio", 0.3, Bounds::closed(0.0, 0.5))},
-                     {"restitution", mat.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0))},
-                     {"friction", mat.number("friction", 0.4, Bounds::non_negative())},
-                     {"rolling_friction", mat.number("rolling_friction", 0.0, Bounds::non_negative())},
-                     {"rolling_damping", mat.number("rolling_damping", 0.0, Bounds::non_negative())},
-                     {"cohesion_energy_density",
-                      mat.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative())},
-                     {"relative_permeability", mat.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7))}};
+    json material = {
+        {"name", "iron"},
+        {"density", mat.quantity("density", units::density, 7800.0, density_range())},
+        {"youngs_modulus", mat.quantity("youngs_modulus", units::pressure, 1e9, youngs_modulus_range())},
+        {"poisson_ratio", mat.number("poisson_ratio", 0.3, Bounds::closed(0.0, 0.5))},
+        {"restitution", mat.number("restitution", 0.5, Bounds::open_closed(0.0, 1.0))},
+        {"friction", mat.number("friction", 0.4, Bounds::non_negative())},
+        {"rolling_friction", mat.number("rolling_friction", 0.0, Bounds::non_negative())},
+        {"rolling_damping", mat.number("rolling_damping", 0.0, Bounds::non_negative())},
+        {"cohesion_energy_density",
+         mat.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::non_negative())},
+        {"relative_permeability", mat.number("relative_permeability", 1000.0, Bounds::closed(1.0, 1e7))},
+        {"saturation_magnetisation", mat.quantity("saturation_magnetisation", units::magnetic_field,
+                                                  Material{}.saturation_magnetisation, Bounds::positive())}};
     if (material["rolling_damping"].get<double>() > 0 && !(material["rolling_friction"].get<double>() > 0))
         mat.fail("rolling_damping",
                  "damps the EPSD rolling spring, which only rolling_friction > 0 switches on; "
                  "give rolling_friction or drop rolling_damping");
     mat.finish();
+    // A lone sphere magnetises to M = 3 beta H0, beta = (mu_r - 1)/(mu_r + 2), until M reaches M_s.
+    const double mu_r = material["relative_permeability"].get<double>();
+    out.lone_grain_saturation_flux_density =
+        mu_r > 1 ? kMu0 * material["saturation_magnetisation"].get<double>() * (mu_r + 2) / (3 * (mu_r - 1))
+                 : std::numeric_limits<double>::infinity();
 
     SceneNode fluid = root.object("fluid");
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
@@ -306,6 +320,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         if (norm(dir) == 0) field.fail("direction", "must be a non-zero vector");
         const Vec3 b0 = dir * (b / norm(dir));
         field_json = {{"type", "uniform"}, {"flux_density", json::array({b0.x, b0.y, b0.z})}};
+        if (b > kLargestFluxDensity)
+            field.fail("flux_density", format_number(b) + " T is more than any magnet puts into a valve (" +
+                                           format_number(kLargestFluxDensity) +
+                                           " T at most; an EPM gives 0.2-0.8 T): did you mean mT?");
+        out.peak_flux_density = b;
     } else {
         std::string file = field.text("file", std::nullopt);
         const double scale = field.number("scale", 1.0, Bounds::non_negative());
@@ -329,6 +348,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                 format_number(v.downstream_length * 1e3) +
                                                 " mm); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
+        out.peak_flux_density = scale * map.largest_flux_density();
+        if (out.peak_flux_density > kLargestFluxDensity)
+            field.fail("scale", "raises the map's strongest node to " + format_number(out.peak_flux_density) +
+                                    " T, more than any magnet puts into a valve (" +
+                                    format_number(kLargestFluxDensity) + " T at most); give a smaller scale");
         out.field_map = std::make_shared<const FieldMap>(std::move(map));
     }
     field.finish();

@@ -65,6 +65,10 @@ struct JamScene {
     // The map as read to check that it covers the valve (unscaled), kept for callers that look
     // the field up themselves (the design's values on the axis); null for a uniform field.
     std::shared_ptr<const FieldMap> field_map;
+    double peak_flux_density = 0;  // T: the uniform field, or the map's strongest node times its scale
+    // T: the applied field above which even a lone grain is saturated (mu0 M_s / (3 beta)), so the
+    // grains' moments, and the magnetic forces, stop growing with the field.
+    double lone_grain_saturation_flux_density = 0;
     bool batch_supply = false;  // model/supply "batch": grains leaving downstream are removed, none enter
     std::string tier;
 

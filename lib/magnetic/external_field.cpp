@@ -31,6 +31,12 @@ Vec3 FieldMap::upper_corner() const {
             origin_.z + spacing_.z * (count_[2] - 1)};
 }
 
+double FieldMap::largest_flux_density() const {
+    double largest = 0;
+    for (const Vec3& b : values_) largest = std::max(largest, norm(b));
+    return largest * scale_;
+}
+
 FieldMap FieldMap::read(const std::string& path, double scale) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error("cannot open field map " + path);

@@ -66,6 +66,7 @@ public:
     std::string name() const override { return "map"; }
     Vec3 lower_corner() const { return origin_; }
     Vec3 upper_corner() const;
+    double largest_flux_density() const;  // T, the strongest node, scale included
 
 private:
     struct Cell {

@@ -23,11 +23,17 @@ const std::vector<ShearTier>& tiers() {
 
 }  // namespace
 
+std::vector<std::string> shear_tier_names() {
+    std::vector<std::string> names;
+    for (const auto& t : tiers()) names.push_back(t.name);
+    return names;
+}
+
 const ShearTier& shear_tier(const std::string& name) {
     for (const auto& t : tiers())
         if (t.name == name) return t;
     std::string list;
-    for (const auto& t : tiers()) list += (list.empty() ? "" : ", ") + t.name;
+    for (const std::string& n : shear_tier_names()) list += (list.empty() ? "" : ", ") + n;
     throw std::invalid_argument("unknown fidelity tier '" + name + "'; expected one of " + list);
 }
 

@@ -21,7 +21,9 @@ struct ShearTier {
     double magnetise_max;            // s, longest magnetisation before shearing anyway
 };
 
-// quick, standard (default), paper. Throws std::invalid_argument naming the valid tiers.
+// quick, standard (default), paper: the names --fidelity accepts.
+std::vector<std::string> shear_tier_names();
+// Throws std::invalid_argument naming the valid tiers.
 const ShearTier& shear_tier(const std::string& name);
 nlohmann::json describe(const ShearTier& tier);
 
