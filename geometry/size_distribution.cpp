@@ -1,15 +1,30 @@
 #include "geometry/size_distribution.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iomanip>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace mrjam {
 
 namespace {
+
+// A grain costs the engine about 2 kB with its contact and magnetic lists (measured: 1.6 kB at the
+// jam quick tier's 2-diameter dipole cutoff, 2.0 kB at the standard tier's 3, on 72,226 grains;
+// docs/benchmarks.md), so more grains than memory / 2.5 kB would swap or be killed mid-run.
+constexpr double kMostGrains = 1e8;       // whatever the memory: past it a run would take weeks
+constexpr double kBytesPerGrain = 2.5e3;  // the measured 2 kB, with room for the larger cutoffs
+double most_grains_in_memory() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    const double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * page : 0.0;
+    return memory > 0 ? std::min(kMostGrains, memory / kBytesPerGrain) : kMostGrains;
+}
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -245,9 +260,13 @@ std::vector<double> SizeDistribution::sample_for_volume(double solid_volume, Rng
     if (!(solid_volume >= 0.0) || !std::isfinite(solid_volume))
         throw std::invalid_argument("SizeDistribution::sample_for_volume: solid volume must be >= 0");
     const double expected = solid_volume / mean_particle_volume();
-    if (expected > 1e8)
-        throw std::invalid_argument("SizeDistribution::sample_for_volume: about " + std::to_string(expected) +
-                                    " grains requested; limit is 1e8");
+    if (expected > most_grains_in_memory()) {
+        std::ostringstream msg;
+        msg << std::setprecision(2) << "about " << expected << " grains would fill the region, more than the "
+            << most_grains_in_memory() << " this machine's memory holds (" << kBytesPerGrain / 1e3
+            << " kB each, lists included): use larger grains or a smaller region";
+        throw std::invalid_argument(msg.str());
+    }
     std::vector<double> out;
     out.reserve(static_cast<std::size_t>(expected * 1.1) + 1);
     double total = 0.0;

@@ -379,6 +379,12 @@ TEST_SUITE("cli") {
                              std::string("0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.2 0\n0 0.3 0\n"));
         refused("map_scale", {{"field", {{"type", "map"}, {"file", wide}, {"scale", 40}}}},
                 "/field/scale: raises the map's strongest node to 12 T");
+        // Grains so fine that the modelled valve would hold more of them than memory does (~1e12 at 1 nm):
+        // refused before they are drawn, not by the kernel's out-of-memory killer mid-run.
+        const Result fine = expect_mode_refused(dir, "jam", "nanometre_grains",
+                                                {{"grains", {{"diameters", {"1 nm"}}, {"mass_fractions", {1}}}}},
+                                                "/grains/volume_fraction: about ");
+        CHECK(fine.err.find("this machine's memory holds") != std::string::npos);
         refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}},
                 "/grains/psd");
         refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
