@@ -27,4 +27,8 @@ inline constexpr double kMaxStepFraction = 0.2;
 
 TimestepLimits timestep_limits(const System& system, double characteristic_speed);
 
+// The scene's warning when the drag sets a step more than 10 times shorter than the contacts
+// need (a viscous carrier, or fine grains); empty otherwise.
+std::string drag_limited_step_warning(const TimestepLimits& limits);
+
 }  // namespace mrjam

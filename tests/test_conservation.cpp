@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -26,6 +27,7 @@
 #include "rel_approx.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "timestep.hpp"
 
 using mrjam_test::rel;
 
@@ -454,6 +456,22 @@ TEST_SUITE("physics") {
         scene_json["run"]["timestep"] = 0.99 * limit;
         const Scene accepted = build(scene_json);
         CHECK(accepted.system.dt == 0.99 * limit);
+    }
+
+    // The step a drag sets is stable but can be thousands of times shorter than the contacts need:
+    // said when more than 10 times, with the ratio to the contacts' shorter clock.
+    TEST_CASE("stability: a step the drag sets far below the contacts' is named, with the ratio") {
+        TimestepLimits l;
+        l.rayleigh = 1e-7;
+        l.hertz = 2e-7;
+        l.drag = 1e-9;
+        const std::string w = drag_limited_step_warning(l);
+        CHECK(w.find("(1e-09 s, the smallest grain's m / (6 pi mu R)) sets the time step, 100 times shorter") !=
+              std::string::npos);
+        l.drag = 1.1e-8;  // 9.1 times: not worth a word
+        CHECK(drag_limited_step_warning(l).empty());
+        l.drag = std::numeric_limits<double>::infinity();  // no fluid
+        CHECK(drag_limited_step_warning(l).empty());
     }
 
     TEST_CASE("reproducibility: same scene, seed and thread count give bit-identical positions") {

@@ -174,6 +174,10 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
     report["fidelity"] = scene.fidelity;
     report["timestep"] = timestep_json(scene);
     report["warnings"] = scene.warnings;
+    // Said before the run too: one about the step (a drag-limited one) changes how long it takes.
+    if (options.progress)
+        for (const std::string& w : scene.warnings)
+            std::fprintf(stderr, "[%s] warning: %s\n", options.mode.c_str(), w.c_str());
     nlohmann::json stage_log =
         options.resumed_stage_log.is_array() ? options.resumed_stage_log : nlohmann::json::array();
 

@@ -519,6 +519,7 @@ void choose_timestep(Scene& scene) {
                              "damping): give an explicit step, e.g. \"1 us\"");
         s.dt = scene.timestep_safety * scene.limits.critical;
     }
+    if (const std::string w = drag_limited_step_warning(scene.limits); !w.empty()) scene.warnings.push_back(w);
     scene.resolved["run"]["timestep_used"] = s.dt;
     // A duration over the step: far more steps than any run could take is a unit or an exponent
     // gone wrong, and a count past a long's range would wrap round to a one-step run.
