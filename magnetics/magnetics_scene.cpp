@@ -32,7 +32,8 @@ MeshSettings tier_mesh(const std::string& tier) {
 namespace {
 
 void read_magnet(SceneNode node, MagnetMaterial& m) {
-    m.remanence = node.quantity("remanence", units::magnetic_flux_density, m.remanence, Bounds::non_negative());
+    // The strongest permanent magnets (NdFeB) hold about 1.5 T; 2 T leaves room, and refuses mT written as T.
+    m.remanence = node.quantity("remanence", units::magnetic_flux_density, m.remanence, Bounds::closed(0.0, 2.0));
     m.recoil_permeability = node.number("recoil_permeability", m.recoil_permeability, Bounds::closed(1.0, 1e6));
     node.finish();
 }
@@ -51,7 +52,9 @@ void read_materials(SceneNode node, MaterialParameters& m) {
             iron->number("relative_permeability", m.iron_relative_permeability, Bounds::closed(1.0, 1e7));
         m.iron_nonlinear = iron->choice("model", {"linear", "saturating"}, "linear") == "saturating";
         m.iron_saturation =
-            iron->quantity("saturation", units::magnetic_flux_density, m.iron_saturation, Bounds::positive());
+            // Iron saturates at 2.15 T, the best cobalt-iron at 2.4 T.
+            iron->quantity("saturation", units::magnetic_flux_density, m.iron_saturation,
+                           Bounds::open_closed(0.0, 3.0));
         iron->finish();
     }
     if (auto fluid = node.optional_object("fluid")) {

@@ -372,7 +372,7 @@ TEST_SUITE("cli") {
         refused("huge_map", {{"field", {{"type", "map"}, {"file", huge}}}}, "/field/file");
         // Tesla for millitesla: no magnet puts 230 T into a valve, and a map scaled past 10 T is refused too.
         refused("tesla_slip", {{"field", {{"flux_density", "230 T"}}}},
-                "/field/flux_density: 230 T is more than any magnet puts into a valve (10 T at most; an EPM gives "
+                "/field/flux_density: 230 T is more than any magnet applies (10 T at most; the valve's EPM gives "
                 "0.2-0.8 T): did you mean mT?");
         const std::string wide = dir.file("wide.map");
         write_text(wide, "mrjam-fieldmap 1\n2 2 2\n-1e-3 -2e-3 -2e-3\n2e-3 4e-3 4e-3\n" +

@@ -106,6 +106,11 @@ TEST_SUITE("cli") {
         }
         {
             json s = magnetic_scene();
+            s["magnetic"]["field"]["flux_density"] = {0, 0, "600 T"};  // mT mistyped
+            expect_refused(dir, "tesla_slip", s, "/magnetic/field/flux_density: 600 T is more than any magnet");
+        }
+        {
+            json s = magnetic_scene();
             s["magnetic"]["field"]["flux_densty"] = {0, 0, 1};
             expect_refused(dir, "unknown_key_in_field", s, "/magnetic/field/flux_densty");
         }

@@ -43,6 +43,9 @@ TEST_SUITE("cli") {
         s["bracket"] = {{"width", "3 mm"}};
         expect_magnetics_refused(dir, "magnets_do_not_fit", s, "/bracket/width");
         s = base;
+        s["magnets"] = {{"ndfeb", {{"remanence", "1350 T"}}}};  // mT written as T: no magnet holds more than ~1.5 T
+        expect_magnetics_refused(dir, "remanence", s, "/magnets/ndfeb/remanence");
+        s = base;
         s["variant"] = "round";
         expect_magnetics_refused(dir, "variant", s, "/variant");
         s = base;

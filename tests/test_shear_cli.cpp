@@ -135,6 +135,15 @@ TEST_SUITE("cli") {
             expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
         }
         {
+            // Tesla for millitesla, in the field and in a sweep.
+            json s = base;
+            s["field"]["flux_density"] = "600 T";
+            expect_shear_refused(dir, "tesla_slip", s, "/field/flux_density: 600 T is more than any magnet applies");
+            s = base;
+            s["field_sweep"] = {{"flux_densities", {"100 mT", "300 T"}}};
+            expect_shear_refused(dir, "tesla_slip_sweep", s, "/field_sweep/flux_densities/1");
+        }
+        {
             json s = base;
             s["cell"] = {{"size", {"40 um", "40 um", "20 um"}}, {"raft_thickness", "3 um"}};
             expect_shear_refused(dir, "thin_cell", s, "/cell/size");

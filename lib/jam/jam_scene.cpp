@@ -20,10 +20,6 @@
 
 namespace mrjam {
 
-// No magnet puts more than this into a valve (an EPM gives 0.2-0.8 T, a large electromagnet a few
-// tesla): a uniform field or a scaled map above it is a slip of units ("230 T" for "230 mT").
-constexpr double kLargestFluxDensity = 10.0;
-
 std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper"}; }
 
 namespace {
@@ -320,10 +316,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
         if (norm(dir) == 0) field.fail("direction", "must be a non-zero vector");
         const Vec3 b0 = dir * (b / norm(dir));
         field_json = {{"type", "uniform"}, {"flux_density", json::array({b0.x, b0.y, b0.z})}};
-        if (b > kLargestFluxDensity)
-            field.fail("flux_density", format_number(b) + " T is more than any magnet puts into a valve (" +
-                                           format_number(kLargestFluxDensity) +
-                                           " T at most; an EPM gives 0.2-0.8 T): did you mean mT?");
+        check_applied_flux_density(field, "flux_density", b);
         out.peak_flux_density = b;
     } else {
         std::string file = field.text("file", std::nullopt);
@@ -349,10 +342,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                 " mm); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
         out.peak_flux_density = scale * map.largest_flux_density();
-        if (out.peak_flux_density > kLargestFluxDensity)
+        if (out.peak_flux_density > kLargestAppliedFluxDensity)
             field.fail("scale", "raises the map's strongest node to " + format_number(out.peak_flux_density) +
-                                    " T, more than any magnet puts into a valve (" +
-                                    format_number(kLargestFluxDensity) + " T at most); give a smaller scale");
+                                    " T, more than any magnet applies (" + format_number(kLargestAppliedFluxDensity) +
+                                    " T at most); give a smaller scale");
         out.field_map = std::make_shared<const FieldMap>(std::move(map));
     }
     field.finish();

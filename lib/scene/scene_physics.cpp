@@ -136,6 +136,7 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     const std::string type = field.choice("type", {"uniform", "map"}, "uniform");
     if (type == "uniform") {
         const Vec3 b = field.vector("flux_density", units::magnetic_flux_density, std::nullopt);
+        check_applied_flux_density(field, "flux_density", norm(b));
         const double on = field.quantity("switch_on", units::time, 0.0, Bounds::non_negative());
         const double ramp = field.quantity("ramp", units::time, 0.0, Bounds::non_negative());
         const double off =

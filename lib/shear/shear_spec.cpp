@@ -217,6 +217,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     {
         SceneNode f = root.object("field");
         s.flux_density = f.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
+        check_applied_flux_density(f, "flux_density", s.flux_density);
         const Vec3 dir = f.vector("direction", units::dimensionless, Vec3{0, 0, 1});
         if (norm(dir) == 0) f.fail("direction", "must be a non-zero vector (the source's field is along z, [0, 0, 1])");
         s.field_direction = dir / norm(dir);
@@ -337,6 +338,8 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
         s.sweep_fields = sw->quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
         if (s.sweep_fields.empty())
             sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
+        for (std::size_t k = 0; k < s.sweep_fields.size(); ++k)
+            check_applied_flux_density(*sw, "flux_densities/" + std::to_string(k), s.sweep_fields[k]);
         s.sweep_rate = sw->quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
         s.sweep_strain = sw->number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
         sw->finish();
