@@ -385,6 +385,11 @@ TEST_SUITE("cli") {
                                                 {{"grains", {{"diameters", {"1 nm"}}, {"mass_fractions", {1}}}}},
                                                 "/grains/volume_fraction: about ");
         CHECK(fine.err.find("this machine's memory holds") != std::string::npos);
+        // A duration past the engine's step count is named by the protocol key, not the engine scene's stage.
+        refused("endless", {{"protocol", {{"max_time", "1e9 s"}}}}, "/protocol/max_time: needs ");
+        // The jet mirrors the taper by default: a stepped orifice must say where the stream re-opens.
+        refused("stepped_coupled", {{"valve", {{"taper_length", "0 mm"}}}, {"fluid", {{"flow", "coupled"}}}},
+                "/fluid/jet_length: is the taper's length by default");
         refused("two_tables", {{"grains", {{"psd", "10um"}, {"diameters", {"40 um"}}, {"mass_fractions", {1}}}}},
                 "/grains/psd");
         refused("typo", {{"protocol", {{"max_tme", "1 ms"}}}}, "/protocol/max_tme");
@@ -724,22 +729,27 @@ TEST_SUITE("cli") {
         // exact for the cone) must be the feed fraction, less what the random packer's boxes cannot
         // reach: the taper staircase's wedges (~5 % of the taper, ~2 % of the stretch) and the
         // centre-free layer a grain radius deep at each slice face. Before the taper was filled the
-        // stretch held 0.28 of 0.345 (81 %).
-        const json scene = {{"valve", {{"constriction", "40x"}}},
-                            {"grains", {{"psd", "44um"}, {"volume_fraction", 0.345}}}};
-        const JamScene js = read_jam_scene(scene, "quick", ".");
-        BuildOptions build;
-        build.fidelity = "quick";
-        const Scene built = build_scene(js.engine_scene, build);
-        double grains = 0;
-        for (double r : built.system.particles.radius) grains += 4.0 / 3.0 * M_PI * r * r * r;
-        const AxialResistance cells(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
-                                    js.valve.downstream_length, js.flow.cell_length, js.feed_fraction, 1e5);
-        double fluid = 0;
-        for (std::size_t k = 0; k < cells.cells(); ++k) fluid += cells.cell_volume(k);
-        const double phi = grains / fluid;
-        CHECK(phi < 0.345);
-        CHECK(phi > 0.93 * 0.345);
+        // stretch held 0.28 of 0.345 (81 %). So too a stepped orifice (no taper) and a sharp-edged one
+        // (no throat), whose empty slices once reached the packer as regions of zero length.
+        for (const json& valve :
+             {json{{"constriction", "40x"}}, json{{"constriction", "40x"}, {"taper_length", "0 mm"}},
+              json{{"constriction", "40x"}, {"throat_length", "0 mm"}}}) {
+            CAPTURE(valve.dump());
+            const json scene = {{"valve", valve}, {"grains", {{"psd", "44um"}, {"volume_fraction", 0.345}}}};
+            const JamScene js = read_jam_scene(scene, "quick", ".");
+            BuildOptions build;
+            build.fidelity = "quick";
+            const Scene built = build_scene(js.engine_scene, build);
+            double grains = 0;
+            for (double r : built.system.particles.radius) grains += 4.0 / 3.0 * M_PI * r * r * r;
+            const AxialResistance cells(js.valve, js.slab_half_thickness, -js.valve.upstream_length,
+                                        js.valve.downstream_length, js.flow.cell_length, js.feed_fraction, 1e5);
+            double fluid = 0;
+            for (std::size_t k = 0; k < cells.cells(); ++k) fluid += cells.cell_volume(k);
+            const double phi = grains / fluid;
+            CHECK(phi < 0.345);
+            CHECK(phi > 0.93 * 0.345);
+        }
     }
 
     TEST_CASE("jam: a short run reports the outcome keys, a flux history and a throat picture") {

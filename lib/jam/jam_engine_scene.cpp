@@ -89,12 +89,14 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     }
     slices.emplace_back(v.throat_end_z(), d_down, rb);
     json batches = json::array();
-    for (const auto& [z0, z1, radius] : slices)
+    for (const auto& [z0, z1, radius] : slices) {
+        if (!(z1 > z0)) continue;  // a valve without a taper (a step) or without a throat (a sharp edge)
         batches.push_back(
             {{"material", "iron"},
              {"size", size},
              {"placement",
               {{"method", "random"}, {"volume_fraction", js.feed_fraction}, {"region", region(z0, z1, radius)}}}});
+    }
     // The flow scales with the supply pressure through the linear circuit, so a raised hold
     // pressure speeds up what the contacts may see.
     const double pressure_ratio = std::max(1.0, js.protocol.hold_pressure / js.flow.supply_pressure);

@@ -106,6 +106,19 @@ std::string short_jet_warning(const JamScene& js) {
            " mm, or drop it";
 }
 
+// An error in the generated engine scene, named by the jam scene's key the user wrote: a packing
+// it cannot make is the feed's volume fraction, a stage with too many steps its protocol time
+// (the stages are flow, field_on, release; jam_engine_scene.cpp).
+SceneError as_jam_key(const SceneError& e) {
+    const std::string& path = e.path();
+    if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
+        return e.at("/grains/volume_fraction");
+    if (path == "/stages/0/duration") return e.at("/protocol/flow_time");
+    if (path == "/stages/1/duration") return e.at("/protocol/max_time");
+    if (path == "/stages/2/duration") return e.at("/protocol/release_time");
+    return e;
+}
+
 // The flux is counted at observations: a window (or the no-field reference, the flow period's
 // second half) that holds only a few of them reads the same count at both ends, a zero rate, and
 // so a false arrest. Refused before the run, now that the step is known.
@@ -373,10 +386,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         try {
             return build_scene(engine, build);
         } catch (const SceneError& e) {
-            const std::string& path = e.path();
-            if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
-                throw e.at("/grains/volume_fraction");
-            throw;
+            throw as_jam_key(e);
         }
     }();
     // The coupled flow replaces the engine scene's prescribed one before anything reads it.
@@ -386,7 +396,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         scene.system.flow = coupled->field();
     }
     if (resuming) restore_state(options.resume_checkpoint, scene.system);
-    choose_timestep(scene);
+    try {
+        choose_timestep(scene);
+    } catch (const SceneError& e) {
+        throw as_jam_key(e);
+    }
     if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
     const JamProtocol& p = js.protocol;

@@ -261,6 +261,12 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
             if (!(room > 0))
                 fluid.fail("profile",
                            "the converging jet has no room past the orifice exit; lengthen model/downstream_length");
+            // The jet mirrors the taper by default: a stepped orifice has none to mirror.
+            if (!(v.taper_length > 0))
+                fluid.fail("jet_length",
+                           "is the taper's length by default, and this valve has no taper "
+                           "(valve/taper_length 0): give how far past the orifice the stream "
+                           "re-opens to the bore, e.g. \"0.5 mm\"");
             jet_length = std::min(v.taper_length, room);  // the taper mirrored, if it fits
         }
     }
