@@ -330,6 +330,11 @@ TEST_SUITE("unit") {
         JamVerdict cut = verdict(true, true, false, false);
         cut.incomplete = true;
         CHECK(jam_outcome_word(cut).rfind("incomplete", 0) == 0);
+        // A run that blew up is not one to resume: it says so rather than "resume with --resume".
+        JamVerdict broken = verdict(false, false, false, false);
+        broken.incomplete = broken.blew_up = true;
+        CHECK(jam_outcome_word(broken).rfind("failed (the run blew up", 0) == 0);
+        CHECK_FALSE(jam_stops_flow(broken));
         JamVerdict blind = verdict(false, false, false, false);
         blind.undetermined = true;
         CHECK(jam_outcome_word(blind) == "undetermined");
@@ -464,6 +469,27 @@ TEST_SUITE("cli") {
              {"model", short_tube()},
              {"protocol", {{"flow_time", "0.3 ms"}, {"arrest_window", "0.05 ms"}, {"observe_every_steps", 2000}}}},
             "/protocol/observe_every_steps", "--fidelity quick");
+    }
+
+    // A carrier at 10 km/s throws the grains together within two steps: the run stops with exit 3,
+    // the blow-up's cause on stderr and in the report, and an outcome that does not offer a resume.
+    TEST_CASE("jam: a run that blows up says where and why, and is not offered a resume") {
+        TempDir dir;
+        const json scene = {{"valve", {{"constriction", "30x"}}},
+                            {"model", short_tube()},
+                            {"fluid", {{"bore_speed", "1e4 m/s"}}},
+                            {"protocol", brief_protocol()},
+                            {"output", {{"directory", dir.file("out")}}}};
+        const Result r = run_mode(dir, "jam", "blown", scene, "--fidelity quick");
+        CAPTURE(r.err);
+        CHECK(r.exit_code == 3);
+        CHECK(r.err.find("blow-up at step") != std::string::npos);
+        const json report = json::parse(slurp(dir.file("blown_report.json")));
+        CHECK(report["status"] == "failed");
+        CHECK(report["error"].get<std::string>().find("overlaps") != std::string::npos);
+        CHECK(report["results"]["field_period_ended_by"] == "blow-up");
+        CHECK(report["results"]["outcome"].get<std::string>().rfind("failed (the run blew up", 0) == 0);
+        CHECK(report["results"]["flux_history"]["partial"] == true);
     }
 
     // A fluid too slow to carry a grain through the throat during the no-field flow leaves nothing to

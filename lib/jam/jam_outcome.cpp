@@ -7,6 +7,7 @@ bool jam_stops_flow(const JamVerdict& v) { return v.jammed && (!v.hold_asked || 
 std::string jam_outcome_word(const JamVerdict& v) {
     if (v.undetermined) return "undetermined";
     // A run stopped before its protocol ended has no outcome yet: only an arrest is already known.
+    if (v.blew_up) return "failed (the run blew up: the report's error says where, and what to change)";
     if (v.incomplete)
         return v.jammed ? "incomplete (arrested; release not yet tested)"
                         : "incomplete (no arrest yet; resume with mrjam jam --resume)";

@@ -13,6 +13,7 @@ namespace mrjam {
 struct JamVerdict {
     bool undetermined = false;  // no grain crossed the throat without field: nothing to compare with
     bool incomplete = false;    // the run stopped (interrupted, blew up) before its protocol ended
+    bool blew_up = false;       // ... because it blew up: no resume will finish it as it stands
     bool jammed = false;        // the grain flux arrested with the field on
     bool hold_asked = false;    // protocol/hold_time > 0
     bool held = false;          // ... and the flux stayed below arrest_fraction over it

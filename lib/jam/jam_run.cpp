@@ -69,10 +69,12 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, do
 
 // What the run says about the valve, for the outcome's words and the jam probability; `hold` is
 // hold_results() (null without a hold, or before the run has held that long).
-JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const nlohmann::json& hold, bool incomplete) {
+JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const nlohmann::json& hold, bool incomplete,
+                       bool blew_up) {
     JamVerdict v;
     v.undetermined = st.undetermined;
     v.incomplete = incomplete;
+    v.blew_up = blew_up;
     v.jammed = st.jammed;
     v.hold_asked = p.hold_time > 0;
     v.held = hold.is_object() && hold["held"].get<bool>();
@@ -145,7 +147,7 @@ void check_observation_interval(const JamProtocol& p, double dt) {
 
 // The report's results: outcome, flux history, arch, and the carrier flow's model and state.
 void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const ClusterView& view, const JamScene& js,
-                       std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete) {
+                       std::size_t resistance_cells, const ValveFlow* valve_flow, bool incomplete, bool blew_up) {
     nlohmann::json history = nlohmann::json::array();
     const auto& h = st.flux.history();
     const std::size_t stride = std::max<std::size_t>(1, h.size() / 400);  // keep the report readable
@@ -162,11 +164,12 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     r["field_period_ended_by"] = st.jammed         ? "arrest"
                                  : st.steady       ? "steady flow"
                                  : st.undetermined ? "no no-field flux to compare with"
+                                 : blew_up         ? "blow-up"
                                  : incomplete      ? "interruption"
                                                    : "max_time";
     const nlohmann::json hold =
         js.protocol.hold_time > 0 ? hold_results(st, js.protocol, js.flow.supply_pressure) : nlohmann::json(nullptr);
-    const JamVerdict verdict = jam_verdict(st, js.protocol, hold, incomplete);
+    const JamVerdict verdict = jam_verdict(st, js.protocol, hold, incomplete, blew_up);
     r["outcome"] = jam_outcome_word(verdict);
     r["stops_flow"] = jam_stops_flow(verdict);
     if (st.steady)
@@ -595,8 +598,9 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     out.time_to_arrest = st.arrest_time;
     // Clusters at the arrest if there was one, otherwise as the run ended (the picture too).
     const ClusterView view = st.arrest_view.valid ? st.arrest_view : look_at_clusters(s);
+    const bool blew_up = out.report.value("status", "") == "failed";  // the runner's BlowUp (exit status 3)
     write_jam_results(out.report, st, view, js, coupled ? coupled->cells() : resistance.cells(), valve_flow.get(),
-                      incomplete);
+                      incomplete, blew_up);
     out.stops_flow = out.report["results"]["stops_flow"].get<bool>();
     if (coupled) write_coupled_slices(out.report["results"], *coupled);
     if (outlet) write_batch_results(out.report, st, *outlet, s.particles.size());
