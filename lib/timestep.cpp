@@ -12,7 +12,7 @@ namespace mrjam {
 TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
     TimestepLimits lim;
     const double inf = std::numeric_limits<double>::infinity();
-    lim.rayleigh = lim.hertz = lim.drag = inf;
+    lim.rayleigh = lim.hertz = lim.drag = lim.stokes = lim.pair_damping = inf;
     const Particles& p = s.particles;
     // The smallest grain of each material sets that material's limits.
     std::vector<std::size_t> smallest(s.materials.size(), p.size());
@@ -40,12 +40,14 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
             }
         }
         if (s.physics.drag && s.physics.viscosity > 0)
-            lim.drag = std::min(lim.drag, p.mass[i] / (6.0 * M_PI * s.physics.viscosity * r));
+            lim.stokes = std::min(lim.stokes, p.mass[i] / (6.0 * M_PI * s.physics.viscosity * r));
         // Pair damping relaxes the relative velocity of two smallest grains in m* / c (m* = m/2).
         // Explicit integration is stable up to 2 m* / (z c) with z contacts, so the default
         // safety fraction 0.1 of this time covers up to 20 contacts.
-        if (s.physics.pair_damping > 0) lim.drag = std::min(lim.drag, 0.5 * p.mass[i] / s.physics.pair_damping);
+        if (s.physics.pair_damping > 0)
+            lim.pair_damping = std::min(lim.pair_damping, 0.5 * p.mass[i] / s.physics.pair_damping);
     }
+    lim.drag = std::min(lim.stokes, lim.pair_damping);
     lim.critical = std::min({lim.rayleigh, lim.hertz, lim.drag});
     lim.limiting = lim.critical == lim.rayleigh ? "Rayleigh time of the smallest grain"
                    : lim.critical == lim.hertz  ? "Hertz contact time of the smallest pair (or grain and wall)"
@@ -58,12 +60,19 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
 // carrier or fine grains can set a step far below what the contacts need: the run is still right,
 // but that many times longer (1e4 Pa s took the valve's 44 um grains from a 36 ns step to 0.005 ns),
 // which a user should hear before waiting for it.
+// Without a contact law there is nothing to compare with, and no warning.
 std::string drag_limited_step_warning(const TimestepLimits& l) {
     constexpr double kNotable = 10;
     const double contact = std::min(l.rayleigh, l.hertz);
-    if (!(l.drag < contact / kNotable)) return {};
+    if (!std::isfinite(contact) || !(l.drag < contact / kNotable)) return {};
+    const std::string ratio = format_number(std::round(contact / l.drag));
+    if (l.pair_damping <= l.stokes)
+        return "the pair damping's relaxation time (" + format_number(l.drag, 3) +
+               " s, m* / c of the two smallest grains) sets the time step, " + ratio +
+               " times shorter than the contacts need, and the run takes that many more steps; a smaller "
+               "contact/pair_damping shortens it";
     return "the drag's relaxation time (" + format_number(l.drag, 3) + " s, the smallest grain's m / (6 pi mu R)) " +
-           "sets the time step, " + format_number(std::round(contact / l.drag)) +
+           "sets the time step, " + ratio +
            " times shorter than the contacts need: the grains are overdamped by the carrier and the run "
            "takes that many more steps; a lower viscosity or larger grains shorten it";
 }

@@ -17,7 +17,9 @@ namespace mrjam {
 struct TimestepLimits {
     double rayleigh = 0;
     double hertz = 0;
-    double drag = 0;          // infinity without drag
+    double drag = 0;          // infinity without drag: the smaller of the two below
+    double stokes = 0;        // the smallest grain's m / (6 pi mu R), infinity without a fluid
+    double pair_damping = 0;  // m* / c of two smallest grains, infinity without pair damping
     double critical = 0;      // the smallest
     std::string limiting;     // which of them
     double stable_limit = 0;  // largest step accepted: max_fraction * critical

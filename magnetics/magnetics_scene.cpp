@@ -185,29 +185,42 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
     if (mesh.fluid_size > 0.5 * m.valve.constriction_diameter)
         throw SceneError("/mesh/fluid_size",
                          "is coarser than half the throat diameter; the fluid would not be resolved");
-    if (out.request.field_model == FieldModel::full_3d) {
-        // The unknowns grow as the inverse cube of the element size. Scaled from the finest 3D
-        // mesh measured (docs/magnetics.md: 1.15 million unknowns at 0.075 / 0.19 mm, 4 GB,
-        // 452 s), plus about ten per element of the air box: far beyond it, the solve would run
-        // out of memory or time rather than answer, so it is refused before meshing.
-        const double fluid = 1.15e6 * std::pow(0.075e-3 / mesh.fluid_size, 3);
-        const double device = 1.15e6 * std::pow(0.19e-3 / mesh.device_size, 3);
-        const double far = 10.0 * std::pow(mesh.air_box / mesh.far_size, 3);
+    // The air box must be resolved: one far element across it (a far_size of 1 m) moved the
+    // active fluid's mean |B| by 26 % without a word.
+    if (mesh.far_size > mesh.air_box / 5)
+        throw SceneError("/mesh/far_size", "is more than a fifth of the air box (" + format_number(mesh.air_box * 1e3) +
+                                               " mm): the field far from the device would not be resolved; give at "
+                                               "most " +
+                                               format_number(mesh.air_box / 5 * 1e3) + " mm");
+    {
+        // The unknowns grow as the inverse cube (2D: square) of the element size. Scaled from the
+        // finest 3D mesh measured (docs/magnetics.md: 1.15 million unknowns at 0.075 / 0.19 mm,
+        // 4 GB, 452 s) or the quick tier's 2D one (37,021 at 0.05 / 0.1 mm), plus about ten per
+        // element of the air box (two in 2D): far beyond it, the solve would run out of memory or
+        // time rather than answer (a 2D far_size of 0.01 mm took 13.6 GB), so it is refused
+        // before meshing.
+        const bool planar = out.request.field_model == FieldModel::planar_2d;
+        const double dim = planar ? 2 : 3;
+        const double fluid = planar ? 37021 * std::pow(0.05e-3 / mesh.fluid_size, dim)
+                                    : 1.15e6 * std::pow(0.075e-3 / mesh.fluid_size, dim);
+        const double device = planar ? 37021 * std::pow(0.1e-3 / mesh.device_size, dim)
+                                     : 1.15e6 * std::pow(0.19e-3 / mesh.device_size, dim);
+        const double far = (planar ? 2.0 : 10.0) * std::pow(mesh.air_box / mesh.far_size, dim);
         const double unknowns = std::max(fluid, device) + far;
-        constexpr double kMostUnknowns = 4e6;  // about 14 GB at the measured 3.5 kB per unknown
+        constexpr double kMostUnknowns = 4e6;  // about 14 GB at the measured 3.5 kB per 3D unknown
         if (unknowns > kMostUnknowns) {
             const std::string key = far >= std::max(fluid, device) ? "far_size"
                                     : fluid >= device              ? "fluid_size"
                                                                    : "device_size";
             throw SceneError("/mesh/" + key,
-                             "would make a 3D mesh of about " + std::to_string(static_cast<long long>(unknowns / 1e6)) +
-                                 " million unknowns, past the " +
-                                 std::to_string(static_cast<int>(kMostUnknowns / 1e6)) +
-                                 " million this tool solves (1.15 million at 0.075 / 0.19 mm took 4 GB and 452 s): "
-                                 "coarsen it" +
-                                 (tier == "quick" ? std::string(" (the quick tier's sizes are for its 2D "
-                                                                "model; give /mesh sizes for 3D)")
-                                                  : std::string()));
+                             "would make a " + std::string(planar ? "2D" : "3D") + " mesh of about " +
+                                 format_number(unknowns / 1e6, 2) + " million unknowns, past the " +
+                                 format_number(kMostUnknowns / 1e6) +
+                                 " million this tool solves (1.15 million at 0.075 / 0.19 mm in 3D took 4 GB and "
+                                 "452 s): coarsen it" +
+                                 (tier == "quick" && !planar ? std::string(" (the quick tier's sizes are for its 2D "
+                                                                           "model; give /mesh sizes for 3D)")
+                                                             : std::string()));
         }
     }
     out.request.mesh = mesh;

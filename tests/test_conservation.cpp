@@ -461,16 +461,27 @@ TEST_SUITE("physics") {
     // The step a drag sets is stable but can be thousands of times shorter than the contacts need:
     // said when more than 10 times, with the ratio to the contacts' shorter clock.
     TEST_CASE("stability: a step the drag sets far below the contacts' is named, with the ratio") {
+        const double inf = std::numeric_limits<double>::infinity();
         TimestepLimits l;
         l.rayleigh = 1e-7;
         l.hertz = 2e-7;
-        l.drag = 1e-9;
+        l.drag = l.stokes = 1e-9;
+        l.pair_damping = inf;
         const std::string w = drag_limited_step_warning(l);
         CHECK(w.find("(1e-09 s, the smallest grain's m / (6 pi mu R)) sets the time step, 100 times shorter") !=
               std::string::npos);
-        l.drag = 1.1e-8;  // 9.1 times: not worth a word
+        // Pair damping, not a fluid: its own clock and its own remedy.
+        l.stokes = inf;
+        l.drag = l.pair_damping = 1e-9;
+        CHECK(drag_limited_step_warning(l).find("the pair damping's relaxation time (1e-09 s") == 0);
+        CHECK(drag_limited_step_warning(l).find("contact/pair_damping") != std::string::npos);
+        l.drag = l.pair_damping = 1.1e-8;  // 9.1 times: not worth a word
         CHECK(drag_limited_step_warning(l).empty());
-        l.drag = std::numeric_limits<double>::infinity();  // no fluid
+        l.drag = l.pair_damping = inf;  // no fluid, no damping
+        CHECK(drag_limited_step_warning(l).empty());
+        // No contact law (a lone grain in a fluid): nothing to compare the drag with.
+        l.rayleigh = l.hertz = inf;
+        l.drag = l.stokes = 1e-9;
         CHECK(drag_limited_step_warning(l).empty());
     }
 

@@ -69,6 +69,14 @@ TEST_SUITE("cli") {
         expect_magnetics_refused(dir, "mesh_too_fine", s, "/mesh/fluid_size");
         s["mesh"] = {{"far_size", "1 um"}};
         expect_magnetics_refused(dir, "far_too_fine", s, "/mesh/far_size");
+        // So is a 2D one (a far_size of 0.01 mm meshed to 13.6 GB), and an air box one element
+        // across (a far_size of 1 m moved the mean |B| by 26 % with no word).
+        s = base;
+        s["model"] = "2d";
+        s["mesh"] = {{"far_size", "0.01 mm"}};
+        expect_magnetics_refused(dir, "far_too_fine_2d", s, "/mesh/far_size: would make a 2D mesh of about 18 million");
+        s["mesh"] = {{"far_size", "1 m"}};
+        expect_magnetics_refused(dir, "far_too_coarse", s, "/mesh/far_size: is more than a fifth of the air box");
         s = base;
         s["bracket"] = {{"cutout_radius", "0.5 mm"}};
         expect_magnetics_refused(dir, "cutout_on_rectangular", s, "/bracket/cutout_radius");
