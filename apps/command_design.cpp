@@ -210,7 +210,13 @@ void add_design_command(CLI::App& app, int& exit_status) {
                 const long long seed = js.engine_scene["seed"].get<long long>() + k;
                 if (!args->quiet)
                     std::cerr << "[design] " << name << ": seed " << seed << " (" << k + 1 << "/" << seeds << ")\n";
-                const JamOutcome o = run_jam(js, seed, options);
+                const JamOutcome o = [&] {
+                    try {
+                        return run_jam(js, seed, options);
+                    } catch (const SceneError& e) {
+                        throw from_jam_run(e, spec, c);
+                    }
+                }();
                 // Every seed's own report (flux and flow histories, clusters) stays beside the map.
                 // Named by the seed itself, as the design report's runs name it.
                 const fs::path seed_report =

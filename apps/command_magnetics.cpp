@@ -98,6 +98,9 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
         const bool fem = scene.request.field_model != FieldModel::circuit;
         if (!args->field_map.empty() && !fem)
             throw SceneError("/model", "the circuit model gives no field map; use \"2d\" or \"3d\" with --field-map");
+        // Checked before the mesh, and named as the scene's key (a file in the way was a raw
+        // filesystem error, exit 1, once the solver tried to clear its work directory).
+        prepare_output_directory(scene.output_directory, "/output/directory");
         if (fem && find_getdp().empty()) {
             std::cerr << "error: getdp was not found on PATH; install it with `apt-get install getdp` "
                          "(bash scripts/install-deps.sh installs everything)\n";

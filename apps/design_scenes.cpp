@@ -102,7 +102,15 @@ magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const f
     set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
                    "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
                    "key (set the design's output_directory instead)");
-    return within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
+    magnetics::MagneticsScene scene =
+        within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
+    // The jam runs need a field map, which the circuit model does not make: refused before the
+    // first solve, not after it ("a field map needs at least 2 nodes along each axis").
+    if (scene.request.field_model == magnetics::FieldModel::circuit)
+        throw SceneError("/magnetics/model",
+                         "the circuit model gives one mean field and no field map, which the jam runs need; use "
+                         "\"2d\" or \"3d\" (or drop it: the tier chooses)");
+    return scene;
 }
 
 json design_jam_inputs(const DesignSpec& spec, const fs::path& dir, json valve, const json& field) {
@@ -122,6 +130,16 @@ json design_jam_inputs(const DesignSpec& spec, const fs::path& dir, json valve, 
 
 JamScene design_jam_scene(const DesignSpec& spec, const json& jam_inputs, const std::string& jam_tier) {
     return within_block("/jam", [&] { return read_jam_scene(jam_inputs, jam_tier, spec.base_directory); });
+}
+
+SceneError for_constriction(const SceneError& e, const DesignSpec& spec, std::size_t index) {
+    return SceneError(e.path(), e.message() + " (with /constrictions/" + std::to_string(index) + ", \"" +
+                                    spec.constrictions[index].first + "\")");
+}
+
+SceneError from_jam_run(const SceneError& e, const DesignSpec& spec, std::size_t index) {
+    if (e.path().empty() || e.path()[0] != '/') return e;
+    return for_constriction(e.at("/jam" + e.path()), spec, index);
 }
 
 void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_tier, const std::string& jam_tier) {
@@ -152,9 +170,7 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             if (e.path().ends_with("/valve/constriction_diameter")) throw e.at(entry);
             // A block's key that fails for this constriction only (a mesh too coarse for a narrow
             // throat, say): the message says which.
-            if (e.path().starts_with("/magnetics") || e.path().starts_with("/jam"))
-                throw SceneError(e.path(),
-                                 e.message() + " (with " + entry + ", \"" + spec.constrictions[i].first + "\")");
+            if (e.path().starts_with("/magnetics") || e.path().starts_with("/jam")) throw for_constriction(e, spec, i);
             throw;
         }
 }

@@ -10,6 +10,7 @@
 
 #include "jam/jam_scene.hpp"
 #include "magnetics/magnetics_scene.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam::cli {
 
@@ -40,6 +41,12 @@ JamScene design_jam_scene(const DesignSpec& spec, const nlohmann::json& jam_inpu
 
 // Every constriction's two scenes, read before the first solve: a bad jam block must not cost a
 // field solve. A throat the valve or the grains cannot take is named by its list entry.
+// A block's error that holds for one constriction only, saying which: "... (with /constrictions/1, \"30x\")".
+SceneError for_constriction(const SceneError& e, const DesignSpec& spec, std::size_t index);
+// An error the jam run finds once its step is known (a flux observed too rarely, a protocol time
+// past the step budget), named from the design file's root: "/jam/protocol/...", and the constriction.
+SceneError from_jam_run(const SceneError& e, const DesignSpec& spec, std::size_t index);
+
 void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_tier, const std::string& jam_tier);
 
 }  // namespace mrjam::cli

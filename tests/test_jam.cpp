@@ -351,6 +351,9 @@ TEST_SUITE("cli") {
         // Messages show numbers as a user writes them ("44 um"), not std::to_string's "44.000000".
         refused("narrow_throat", {{"valve", {{"constriction_diameter", "40 um"}}}},
                 "/valve/constriction_diameter: the throat is not wider than the largest grain (44 um)");
+        refused("size_as_preset", {{"valve", {{"constriction", "1 mm"}}}},
+                "/valve/constriction: takes a preset (20x, 30x or 40x); give a size such as \"1 mm\" as "
+                "constriction_diameter instead");
         refused("zero_threshold", {{"protocol", {{"arrest_fraction", 0}}}}, "/protocol/arrest_fraction");
         refused("dense", {{"grains", {{"volume_fraction", 0.7}}}}, "/grains/volume_fraction");
         // Below random close packing but more than the valve's walls let the packing reach: refused by
@@ -1020,6 +1023,10 @@ TEST_SUITE("cli") {
                  // Found before the field solve (they stopped the design after it, or wrapped a seed).
                  {{{"jam", {{"model", {{"upstream_length", "10 mm"}}}}}}, "/jam/model/upstream_length"},
                  {{{"jam", {{"seed", std::numeric_limits<long long>::max()}}}, {"seeds", 2}}, "/jam/seed"},
+                 // Past a long long it wrapped to -1 and the message quoted a seed nobody wrote.
+                 {{{"jam", {{"seed", std::numeric_limits<std::uint64_t>::max()}}}},
+                  "/jam/seed: value 18446744073709551615 is"},
+                 {{{"magnetics", {{"model", "circuit"}}}}, "/magnetics/model"},
                  {{{"jam", 5}}, "/jam"},
                  {{{"magnetics", {{"valve", 5}}}}, "/magnetics/valve"},
                  {{{"output_directory", ""}}, "/output_directory"}}) {
@@ -1030,7 +1037,9 @@ TEST_SUITE("cli") {
             CAPTURE(path);
             CAPTURE(refused.err);
             CHECK(refused.exit_code == 2);
-            CHECK(refused.err.find("error in scene: " + path + ":") != std::string::npos);
+            // A path, then its message; or (ending " is") the start of the message itself.
+            CHECK(refused.err.find("error in scene: " + path + (path.ends_with(" is") ? " " : ":")) !=
+                  std::string::npos);
         }
     }
 

@@ -46,6 +46,10 @@ TEST_SUITE("cli") {
         s["magnets"] = {{"ndfeb", {{"remanence", "1350 T"}}}};  // mT written as T: no magnet holds more than ~1.5 T
         expect_magnetics_refused(dir, "remanence", s, "/magnets/ndfeb/remanence");
         s = base;
+        write_text(dir.file("a_file"), "in the way");
+        s["output"] = {{"directory", dir.file("a_file")}};
+        expect_magnetics_refused(dir, "output_on_a_file", s, "/output/directory: cannot create the directory");
+        s = base;
         s["variant"] = "round";
         expect_magnetics_refused(dir, "variant", s, "/variant");
         s = base;

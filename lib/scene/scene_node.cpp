@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "core/format.hpp"
@@ -134,7 +135,11 @@ long long SceneNode::integer(const std::string& key, std::optional<long long> fa
         value = *fallback;
     } else {
         const json& v = at(key);
-        if (v.is_number_integer()) {
+        if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(hi)) {
+            // Above a long long's range it would wrap to a negative number the user never wrote.
+            fail(key, "value " + v.dump() + " is out of range; expected in [" + format_number(lo) + ", " +
+                          format_number(hi) + "]");
+        } else if (v.is_number_integer()) {
             value = v.get<long long>();
         } else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() &&
                    std::fabs(v.get<double>()) < 9e18) {

@@ -1,5 +1,6 @@
 #include "scene/scene_parts.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fluid/slot_valve_flow.hpp"
@@ -180,10 +181,17 @@ ValveGeometry read_valve(SceneNode node) {
     v.wall_thickness = node.quantity("wall_thickness", L, v.wall_thickness, Bounds::any());
     if (node.has("constriction") && node.has("constriction_diameter"))
         node.fail("constriction", "give either a preset name (constriction) or constriction_diameter, not both");
-    if (node.has("constriction"))
-        v.constriction_diameter =
-            constriction_preset(node.choice("constriction", constriction_preset_names(), std::nullopt));
-    else
+    if (node.has("constriction")) {
+        // A size given to the preset key ("1 mm") belongs to constriction_diameter: say so.
+        const json& given = node.raw("constriction");
+        const auto presets = constriction_preset_names();
+        if (given.is_string() && std::find(presets.begin(), presets.end(), given.get<std::string>()) == presets.end() &&
+            given.get<std::string>().find_first_of("0123456789") != std::string::npos &&
+            given.get<std::string>().back() != 'x')
+            node.fail("constriction", "takes a preset (20x, 30x or 40x); give a size such as \"" +
+                                          given.get<std::string>() + "\" as constriction_diameter instead");
+        v.constriction_diameter = constriction_preset(node.choice("constriction", presets, std::nullopt));
+    } else
         v.constriction_diameter = node.quantity("constriction_diameter", L, v.constriction_diameter, Bounds::any());
     v.orifice = node.choice("orifice", {"circular", "slot"}, "circular") == "slot" ? Orifice::slot : Orifice::circular;
     if (node.has("slot_width") || v.is_slot()) v.slot_width = node.quantity("slot_width", L, 0.0, Bounds::any());
