@@ -103,12 +103,11 @@ private:
 DiscPackingResult random_disc_packing(const Domain& domain, int normal, const SizeDistribution& sizes,
                                       double area_fraction, Rng& rng, const PackingOptions& options) {
     if (!(area_fraction > 0.0) || area_fraction > kRandomClosePackingDiscs)
-        throw std::invalid_argument("random_disc_packing: area fraction " + fmt(area_fraction) +
+        throw std::invalid_argument("area fraction " + fmt(area_fraction) +
                                     " is outside (0, 0.84]; 0.84 is random close packing of discs, above it a random "
                                     "packing of discs cannot exist");
     if (normal < 0 || normal > 2 || domain.periodic[normal])
-        throw std::invalid_argument(
-            "random_disc_packing: the monolayer's normal axis must be one of x, y, z and not periodic");
+        throw std::invalid_argument("the monolayer's normal axis must be one of x, y, z and not periodic");
     Plane plane;
     for (int k = 0; k < 2; ++k) {
         plane.axis[k] = (normal + 1 + k) % 3;
@@ -119,12 +118,11 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
     const double d_max = sizes.max_diameter();
     for (int k = 0; k < 2; ++k)
         if ((plane.wrap[k] && plane.len[k] < 2 * d_max) || (!plane.wrap[k] && plane.len[k] <= d_max))
-            throw std::invalid_argument("random_disc_packing: the box is " + fmt(plane.len[k]) + " m along " +
-                                        std::string(1, char('x' + plane.axis[k])) +
-                                        ", too short for the largest grain (" + fmt(d_max) +
-                                        " m; a periodic side needs two diameters)");
+            throw std::invalid_argument(
+                "the box is " + fmt(plane.len[k]) + " m along " + std::string(1, char('x' + plane.axis[k])) +
+                ", too short for the largest grain (" + fmt(d_max) + " m; a periodic side needs two diameters)");
     if (domain.hi[normal] - domain.lo[normal] < d_max)
-        throw std::invalid_argument("random_disc_packing: the layer is thinner than the largest grain");
+        throw std::invalid_argument("the layer is thinner than the largest grain");
 
     // Diameters until the disc area is closest to the target, largest first.
     const double target = area_fraction * plane.len[0] * plane.len[1];
@@ -193,7 +191,7 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
         out.max_overlap_ratio = worst;
         if (worst < options.overlap_tolerance) break;
         if (out.sweeps >= options.max_sweeps)
-            throw std::runtime_error("random_disc_packing: overlaps still " + fmt(worst) + " of a radius after " +
+            throw std::runtime_error("overlaps still " + fmt(worst) + " of a radius after " +
                                      std::to_string(out.sweeps) + " sweeps; lower the area fraction");
         ++out.sweeps;
         for (std::size_t i = 0; i < n; ++i) {

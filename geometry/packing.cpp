@@ -103,26 +103,25 @@ private:
 // Rejects inputs the packer cannot honour, with messages that say what to change.
 void validate(const Region& region, const Domain& domain, double volume_fraction) {
     if (!(volume_fraction > 0.0) || volume_fraction > kRandomClosePacking)
-        throw std::invalid_argument("random_packing: volume fraction " + fmt(volume_fraction) +
+        throw std::invalid_argument("volume fraction " + fmt(volume_fraction) +
                                     " is outside (0, 0.64]; 0.64 is random close packing of spheres, above it a random "
                                     "packing cannot exist (use lattice_packing for denser ordered packings)");
     for (int k = 0; k < 3; ++k) {
         if (!domain.periodic[k] || region.wraps(k, domain)) continue;
         const double tol = 1e-12 * (domain.hi[k] - domain.lo[k]);
         if (region.bbox_lo()[k] < domain.lo[k] - tol || region.bbox_hi()[k] > domain.hi[k] + tol)
-            throw std::invalid_argument("random_packing: on periodic axis " + std::to_string(k) +
+            throw std::invalid_argument("on periodic axis " + std::to_string(k) +
                                         " the region must either span the whole period or lie inside the domain");
     }
 }
 
 void validate_sizes(const Region& region, const Domain& domain, double d_max) {
     if (!region.fits(0.5 * d_max, domain))
-        throw std::invalid_argument("random_packing: the largest grain (d = " + fmt(d_max) +
-                                    ") does not fit in the region");
+        throw std::invalid_argument("the largest grain (d = " + fmt(d_max) + ") does not fit in the region");
     for (int k = 0; k < 3; ++k)
         if (domain.periodic[k] && domain.hi[k] - domain.lo[k] < 2.0 * d_max)
             throw std::invalid_argument(
-                "random_packing: periodic axis " + std::to_string(k) +
+                "periodic axis " + std::to_string(k) +
                 " is shorter than two largest-grain diameters; minimum image needs a longer period");
 }
 
@@ -391,7 +390,7 @@ PackingResult random_packing(const Region& region, const Domain& domain, const S
     packer.insert_all();
     const int sweeps = packer.relax(options.overlap_tolerance, options.max_sweeps);
     if (sweeps < 0)
-        throw std::runtime_error("random_packing: could not reach volume fraction " + fmt(volume_fraction) +
+        throw std::runtime_error("could not reach volume fraction " + fmt(volume_fraction) +
                                  " (worst overlap / radius still " + fmt(packer.final_ratio()) + " after " +
                                  std::to_string(options.max_sweeps) +
                                  " sweeps); try a lower volume fraction (random close packing is ~0.64, less near "
@@ -431,18 +430,17 @@ LatticeCell lattice_cell(const std::string& name) {
         const double b = std::sqrt(3.0), c = 2.0 * std::sqrt(2.0 / 3.0);
         return {{1, b, c}, {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 1.0 / 6.0, 0.5}, {0, 2.0 / 3.0, 0.5}}};
     }
-    throw std::invalid_argument("lattice_packing: unknown lattice '" + name + "' (use cubic, bcc, fcc or hcp)");
+    throw std::invalid_argument("unknown lattice '" + name + "' (use cubic, bcc, fcc or hcp)");
 }
 
 }  // namespace
 
 std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, double diameter, double spacing,
                                     const std::string& lattice) {
-    if (!(diameter > 0.0) || !std::isfinite(diameter))
-        throw std::invalid_argument("lattice_packing: diameter must be positive");
+    if (!(diameter > 0.0) || !std::isfinite(diameter)) throw std::invalid_argument("diameter must be positive");
     if (!(spacing >= diameter * (1.0 - 1e-12)) || !std::isfinite(spacing))
-        throw std::invalid_argument("lattice_packing: spacing " + fmt(spacing) + " is below the diameter " +
-                                    fmt(diameter) + "; spheres would overlap");
+        throw std::invalid_argument("spacing " + fmt(spacing) + " is below the diameter " + fmt(diameter) +
+                                    "; spheres would overlap");
     const LatticeCell cell = lattice_cell(lattice);
     const double r = 0.5 * diameter;
     const Vec3 P = cell.period * spacing;
@@ -457,7 +455,7 @@ std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, 
             const double L = domain.hi[k] - domain.lo[k];
             count[k] = static_cast<long>(std::floor(L / P[k] * (1.0 + 1e-12)));
             if (count[k] < 1)
-                throw std::invalid_argument("lattice_packing: the period on axis " + std::to_string(k) +
+                throw std::invalid_argument("the period on axis " + std::to_string(k) +
                                             " is shorter than one lattice period");
             origin[k] = domain.lo[k] + r;
         } else {
@@ -467,7 +465,7 @@ std::vector<Sphere> lattice_packing(const Region& region, const Domain& domain, 
         }
     }
     if (static_cast<double>(count[0]) * count[1] * count[2] * cell.basis.size() > 1e8)
-        throw std::invalid_argument("lattice_packing: more than 1e8 lattice sites; use a larger spacing");
+        throw std::invalid_argument("more than 1e8 lattice sites; use a larger spacing");
 
     std::vector<Sphere> out;
     for (long iz = 0; iz < count[2]; ++iz)

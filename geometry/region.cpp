@@ -25,8 +25,7 @@ double wrap_coordinate(double x, double lo, double hi) {
 Region Region::box(const Vec3& lo, const Vec3& hi) {
     for (int k = 0; k < 3; ++k)
         if (!(hi[k] > lo[k]) || !std::isfinite(lo[k]) || !std::isfinite(hi[k]))
-            throw std::invalid_argument("Region::box: hi must exceed lo on every axis (axis " + std::to_string(k) +
-                                        ")");
+            throw std::invalid_argument("hi must exceed lo on every axis (axis " + std::to_string(k) + ")");
     Region r;
     r.kind = Kind::box;
     r.lo = lo;
@@ -35,9 +34,9 @@ Region Region::box(const Vec3& lo, const Vec3& hi) {
 }
 
 Region Region::cylinder(const Vec3& base_centre, int axis, double radius, double length) {
-    if (axis < 0 || axis > 2) throw std::invalid_argument("Region::cylinder: axis must be 0 (x), 1 (y) or 2 (z)");
+    if (axis < 0 || axis > 2) throw std::invalid_argument("axis must be 0 (x), 1 (y) or 2 (z)");
     if (!(radius > 0.0) || !(length > 0.0) || !std::isfinite(radius) || !std::isfinite(length))
-        throw std::invalid_argument("Region::cylinder: radius and length must be positive");
+        throw std::invalid_argument("radius and length must be positive");
     Region r;
     r.kind = Kind::cylinder;
     r.base = base_centre;

@@ -89,14 +89,13 @@ SizeDistribution SizeDistribution::lognormal(double median_diameter, double sigm
     require_positive(sigma_ln, "lognormal sigma_ln (use single() for one size)");
     require_positive(min_diameter, "lognormal min diameter");
     require_positive(max_diameter, "lognormal max diameter");
-    if (min_diameter >= max_diameter)
-        throw std::invalid_argument("SizeDistribution::lognormal: min diameter must be below max diameter");
+    if (min_diameter >= max_diameter) throw std::invalid_argument("min diameter must be below max diameter");
     const Lognormal ln{std::log(median_diameter), sigma_ln, min_diameter, max_diameter};
     const double a = (std::log(min_diameter) - ln.mu) / sigma_ln;
     const double b = (std::log(max_diameter) - ln.mu) / sigma_ln;
     if (normal_interval(a, b) < 1e-3)
         throw std::invalid_argument(
-            "SizeDistribution::lognormal: [min, max] holds under 0.1% of the distribution; "
+            "[min, max] holds under 0.1% of the distribution; "
             "move the window towards the median or widen sigma");
     SizeDistribution s;
     s.components_.emplace_back(ln);
@@ -107,21 +106,21 @@ SizeDistribution SizeDistribution::lognormal(double median_diameter, double sigm
 
 SizeDistribution SizeDistribution::table(std::vector<double> diameters, std::vector<double> frequencies,
                                          FrequencyBasis basis) {
-    if (diameters.empty()) throw std::invalid_argument("SizeDistribution::table: the table is empty");
+    if (diameters.empty()) throw std::invalid_argument("the table is empty");
     if (diameters.size() != frequencies.size())
-        throw std::invalid_argument("SizeDistribution::table: " + std::to_string(diameters.size()) + " diameters but " +
+        throw std::invalid_argument("" + std::to_string(diameters.size()) + " diameters but " +
                                     std::to_string(frequencies.size()) + " frequencies");
     double total = 0.0;
     for (std::size_t i = 0; i < diameters.size(); ++i) {
         if (!(diameters[i] > 0.0) || !std::isfinite(diameters[i]))
-            throw std::invalid_argument("SizeDistribution::table: diameter #" + std::to_string(i) +
-                                        " is not positive (" + std::to_string(diameters[i]) + ")");
+            throw std::invalid_argument("diameter #" + std::to_string(i) + " is not positive (" +
+                                        std::to_string(diameters[i]) + ")");
         if (!(frequencies[i] >= 0.0) || !std::isfinite(frequencies[i]))
-            throw std::invalid_argument("SizeDistribution::table: frequency #" + std::to_string(i) +
-                                        " is negative or not finite (" + std::to_string(frequencies[i]) + ")");
+            throw std::invalid_argument("frequency #" + std::to_string(i) + " is negative or not finite (" +
+                                        std::to_string(frequencies[i]) + ")");
         total += frequencies[i];
     }
-    if (total == 0.0) throw std::invalid_argument("SizeDistribution::table: all frequencies are zero");
+    if (total == 0.0) throw std::invalid_argument("all frequencies are zero");
 
     if (basis == FrequencyBasis::volume) {
         // A volume share f_i is carried by grains of volume ∝ d_i^3, so their count ∝ f_i/d_i^3.
@@ -140,14 +139,14 @@ SizeDistribution SizeDistribution::table(std::vector<double> diameters, std::vec
 }
 
 SizeDistribution SizeDistribution::mixture(const std::vector<std::pair<SizeDistribution, double>>& parts) {
-    if (parts.empty()) throw std::invalid_argument("SizeDistribution::mixture: no parts");
+    if (parts.empty()) throw std::invalid_argument("no parts");
     double share_total = 0.0;
     for (const auto& [part, share] : parts) {
         if (!(share >= 0.0) || !std::isfinite(share))
-            throw std::invalid_argument("SizeDistribution::mixture: a volume share is negative or not finite");
+            throw std::invalid_argument("a volume share is negative or not finite");
         share_total += share;
     }
-    if (share_total == 0.0) throw std::invalid_argument("SizeDistribution::mixture: all volume shares are zero");
+    if (share_total == 0.0) throw std::invalid_argument("all volume shares are zero");
 
     // A part holding volume share w with mean grain volume V contributes w / V grains per unit
     // of solid volume; that is its number weight. Within a part, its own weights carry over.
