@@ -54,8 +54,12 @@ nlohmann::json results_json(const EpmField& f, const MagneticsScene& scene) {
     nlohmann::json r{{"mean_B_active_T", f.mean_b_active},
                      {"max_B_active_T", f.max_b_active},
                      {"mean_B_inactive_T", f.mean_b_inactive},
-                     {"uniformity_cv", f.uniformity},
-                     {"active_fluid_volume_m3", f.active_volume}};
+                     {"uniformity_cv", f.uniformity}};
+    // The 2D model and the circuit see the throat's cross-section: an area, not a volume.
+    if (f.field_model == FieldModel::full_3d)
+        r["active_fluid_volume_m3"] = f.active_volume;
+    else
+        r["active_fluid_area_m2"] = f.active_volume;
     if (f.field_model == FieldModel::circuit) {
         r["gradient_B2_active_mean_T2_per_m"] = nullptr;
         r["gradient_B2_active_max_T2_per_m"] = nullptr;

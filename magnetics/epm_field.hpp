@@ -42,7 +42,7 @@ struct EpmField {
     double uniformity = 0;        // coefficient of variation of |B| over the active fluid
     double gradient_b2_mean = 0;  // T^2/m, mean of |grad |B|^2| over the active fluid grid nodes
     double gradient_b2_max = 0;   // T^2/m, its largest value there
-    double active_volume = 0;     // m^3 (m^2 in 2D)
+    double active_volume = 0;     // m^3 (m^2 in 2D and in the circuit: the report's active_fluid_area_m2)
     std::size_t mesh_nodes = 0, mesh_elements = 0;
     int unknowns = 0, solver_iterations = 0;
     double mesh_seconds = 0, solve_seconds = 0;

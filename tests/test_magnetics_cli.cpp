@@ -101,6 +101,10 @@ TEST_SUITE("cli") {
         }
         CHECK(res["mean_B_active_T"].get<double>() > 0);
         CHECK(res["max_B_active_T"].get<double>() >= res["mean_B_active_T"].get<double>());
+        // The circuit sees the throat's section: an area, at most the 2.6 mm bore's disc.
+        CHECK_FALSE(res.contains("active_fluid_volume_m3"));
+        CHECK(res["active_fluid_area_m2"].get<double>() > 0);
+        CHECK(res["active_fluid_area_m2"].get<double>() <= M_PI * 1.3e-3 * 1.3e-3 * (1 + 1e-9));
         CHECK(res["source_comparison"]["source_T"].get<double>() == rel(0.2294));
         CHECK(report["fidelity"]["model"] == "circuit");
         CHECK(report["inputs"]["bracket"]["thickness"].get<double>() == rel(1.4e-3));  // defaults echoed
