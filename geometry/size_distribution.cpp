@@ -108,7 +108,7 @@ SizeDistribution SizeDistribution::table(std::vector<double> diameters, std::vec
                                          FrequencyBasis basis) {
     if (diameters.empty()) throw std::invalid_argument("the table is empty");
     if (diameters.size() != frequencies.size())
-        throw std::invalid_argument("" + std::to_string(diameters.size()) + " diameters but " +
+        throw std::invalid_argument(std::to_string(diameters.size()) + " diameters but " +
                                     std::to_string(frequencies.size()) + " frequencies");
     double total = 0.0;
     for (std::size_t i = 0; i < diameters.size(); ++i) {
