@@ -45,6 +45,14 @@ TEST_SUITE("unit") {
         REQUIRE(f.ok);
         CHECK(f.yield_stress_error == rel(s * std::sqrt(1000.0 * 1000 + 300.0 * 300) / 700).epsilon(1e-12));
         CHECK_FALSE(fit_bingham({{100, 1e3, 0}, {1000, 2e3, 0}}, 200).ok);  // one rate above the threshold
+        // A line through the origin's far side, or falling, is fitted and said to be no Bingham fluid.
+        const ModelFit below = fit_bingham({{1000, 5e3, 0}, {300, 1e3, 0}}, 200);
+        CHECK(below.yield_stress < 0);
+        CHECK(below.note.find("negative intercept") == 0);
+        const ModelFit falling = fit_bingham({{1000, 1e3, 0}, {300, 5e3, 0}}, 200);
+        CHECK(falling.viscosity < 0);
+        CHECK(falling.note.find("stress falls with rate") == 0);
+        CHECK(fit_bingham(pts, 200).note.empty());
     }
 
     TEST_CASE("shear fits: Casson recovers tau_y and eta from exact data") {

@@ -133,6 +133,9 @@ ModelFit fit_bingham(const std::vector<FlowPoint>& curve, double min_rate) {
     f.viscosity = lf.coef[1];
     f.viscosity_error = lf.sigma[1];
     f.rms_residual = rms_of(pts, f);
+    // Said, as for Casson: a short or noisy study can fit a line that no Bingham fluid has.
+    if (f.yield_stress < 0) f.note = "negative intercept: no yield stress in the Bingham sense";
+    if (f.viscosity < 0) f.note = "stress falls with rate: the Bingham viscosity is not defined";
     return f;
 }
 
