@@ -334,6 +334,15 @@ TEST_SUITE("cli") {
             expect_refused(dir, "negative_median", s, "/grains/0/size/median_diameter");
         }
         {
+            // A min_diameter above the defaulted max (1 mm e^0.6 = 1.82 mm) is the min's fault, not max's.
+            json s = small_scene();
+            s["grains"][0]["size"] = {{"distribution", "lognormal"},
+                                      {"median_diameter", "1 mm"},
+                                      {"sigma_ln", 0.2},
+                                      {"min_diameter", "2 mm"}};
+            expect_refused(dir, "min_above_default_max", s, "/grains/0/size/min_diameter: must be below max_diameter");
+        }
+        {
             json s = small_scene();
             s["materials"][0]["restitution"] = 0;
             expect_refused(dir, "restitution_0", s, "/materials/0/restitution");

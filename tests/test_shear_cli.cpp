@@ -135,6 +135,12 @@ TEST_SUITE("cli") {
             expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
         }
         {
+            // A strain that needs more steps than any run could take (it ran, showing "step 0/2.3e17").
+            json s = base;
+            s["ladder"]["strain_first"] = 1e12;
+            expect_shear_refused(dir, "endless_strain", s, "/ladder/strain_first: needs ");
+        }
+        {
             // Tesla for millitesla, in the field and in a sweep.
             json s = base;
             s["field"]["flux_density"] = "600 T";

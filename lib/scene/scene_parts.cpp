@@ -45,6 +45,11 @@ SizeDistribution read_size_distribution(SceneNode node) {
             node.quantity("min_diameter", units::length, median * std::exp(-3 * sigma), Bounds::positive());
         const double dmax =
             node.quantity("max_diameter", units::length, median * std::exp(3 * sigma), Bounds::positive());
+        // Name the key the user wrote: a min_diameter above the defaulted max_diameter is the min's fault.
+        if (!(dmax > dmin) && !node.has("max_diameter"))
+            node.fail("min_diameter",
+                      "must be below max_diameter, which defaults to median_diameter e^(3 sigma_ln) = " +
+                          format_number(dmax) + " m; lower it or give max_diameter");
         if (!(dmax > dmin)) node.fail("max_diameter", "must exceed min_diameter");
         result = SizeDistribution::lognormal(median, sigma, dmin, dmax);
     } else {

@@ -30,7 +30,8 @@ struct CellPlan {
     std::string name;         // "main" or "field_sweep"
     double flux_density = 0;  // T
     std::vector<double> wall_speeds, rates, strains;
-    std::vector<long> steps;  // fixed steps per rate (0: from the strain)
+    std::vector<long> steps;               // fixed steps per rate (0: from the strain)
+    std::vector<std::string> strain_keys;  // the scene key each strain came from, for refusals
 };
 
 std::vector<CellPlan> plan_of(const ShearSpec& spec) {
@@ -43,6 +44,7 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
     for (std::size_t k = 0; k < spec.rates.size(); ++k) {
         main.strains.push_back(k == 0 ? spec.strain_first : spec.strain_per_rate);
         main.steps.push_back(spec.steps_first > 0 ? (k == 0 ? spec.steps_first : spec.steps_per_rate) : 0);
+        main.strain_keys.push_back(k == 0 ? "/ladder/strain_first" : "/ladder/strain_per_rate");
     }
     cells.push_back(main);
     for (double b : spec.sweep_fields) {
@@ -56,10 +58,12 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
             c.rates.push_back(spec.rates.front());
             c.strains.push_back(spec.steps_first > 0 ? 0.0 : spec.strain_first);
             c.steps.push_back(spec.steps_first > 0 ? spec.steps_first : 0);
+            c.strain_keys.push_back("/ladder/strain_first");
         }
         c.rates.push_back(spec.sweep_rate);
         c.strains.push_back(spec.sweep_strain);
         c.steps.push_back(0);
+        c.strain_keys.push_back("/field_sweep/strain");
         for (double g : c.rates) c.wall_speeds.push_back(0.5 * g * spec.gap());
         cells.push_back(c);
     }
@@ -151,6 +155,27 @@ public:
     }
 
 private:
+    // A strain or a magnetisation that needs more steps than any run could take is a unit or an
+    // exponent gone wrong (a strain of 1e12 ran, showing "step 0/2.3e17"), or a step the damping
+    // has shrunk: refused as run mode refuses a stage's duration.
+    void check_step_counts(const CellPlan& plan) const {
+        constexpr double kMostSteps = 1e15;
+        const double dt = scene_->system.dt;
+        const std::string cause = ": check it, or what sets the step (" + scene_->limits.limiting + ")";
+        for (std::size_t k = 0; k < plan.rates.size(); ++k) {
+            const double steps = plan.strains[k] / plan.rates[k] / dt;
+            if (plan.steps[k] == 0 && !(steps <= kMostSteps))
+                throw SceneError(plan.strain_keys[k], "needs " + format_number(steps, 2) + " steps of " +
+                                                          format_number(dt, 3) + " s at " +
+                                                          format_number(plan.rates[k]) + " 1/s, more than " +
+                                                          format_number(kMostSteps) + cause);
+        }
+        if (!(spec_.magnetise_max / dt <= kMostSteps))
+            throw SceneError("/magnetise/max_duration", "needs " + format_number(spec_.magnetise_max / dt, 2) +
+                                                            " steps of " + format_number(dt, 3) + " s, more than " +
+                                                            format_number(kMostSteps) + cause);
+    }
+
     // Builds cell c's engine scene (fresh grains) and checks the cell against the grains drawn.
     void build_cell(std::size_t c) {
         BuildOptions build;
@@ -164,6 +189,7 @@ private:
         } catch (const SceneError& e) {
             rethrow_as_shear(e);
         }
+        check_step_counts(cells_[c]);
         double d_max = 0;
         for (double r : scene_->system.particles.radius) d_max = std::max(d_max, 2 * r);
         // Chains must span several grains between the rafts, or the cell measures single grains
