@@ -74,7 +74,7 @@ TEST_SUITE("unit") {
         } catch (const units::UnitError& e) {
             const std::string msg = e.what();
             CHECK(msg.find("7800 kg/m2") != std::string::npos);
-            CHECK(msg.find(units::describe(units::density)) != std::string::npos);
+            CHECK(msg.find(units::spoken(units::density)) != std::string::npos);
         }
     }
 
@@ -103,6 +103,18 @@ TEST_SUITE("unit") {
         CHECK(units::describe(units::length) == "m");
         CHECK(units::describe(units::dimensionless) == "dimensionless");
         CHECK(units::describe(units::pressure) == "m^-1 kg s^-2");
+    }
+
+    TEST_CASE("units: a wrong unit is answered with the unit a scene writes, and an example") {
+        try {
+            units::parse_as("5 mm", units::magnetic_flux_density);
+            FAIL("expected UnitError");
+        } catch (const units::UnitError& e) {
+            CHECK(std::string(e.what()) == "\"5 mm\" has units of m, expected T, e.g. \"230 mT\"");
+        }
+        CHECK(units::spoken(units::viscosity) == "Pa s, e.g. \"0.16 Pa s\"");
+        CHECK(units::spoken(units::magnetic_moment) == "A m2");
+        CHECK(units::spoken(units::Dimension{{1, 1, 0, 0}}) == "m kg");  // no common name: base units
     }
 
 }  // TEST_SUITE

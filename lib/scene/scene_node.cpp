@@ -99,7 +99,7 @@ double SceneNode::quantity(const std::string& key, const units::Dimension& dim, 
     double value;
     if (!has(key)) {
         if (!fallback)
-            fail(key, "required key is missing (a number in SI or a string with units, " + units::describe(dim) + ")");
+            fail(key, "required key is missing (a number in SI or a string with units, " + units::spoken(dim) + ")");
         value = *fallback;
     } else {
         const json& v = at(key);
@@ -112,7 +112,7 @@ double SceneNode::quantity(const std::string& key, const units::Dimension& dim, 
                 fail(key, e.what());
             }
         } else {
-            fail(key, "expected a number or a string with units (" + units::describe(dim) + ")");
+            fail(key, "expected a number or a string with units (" + units::spoken(dim) + ")");
         }
     }
     if (!bounds.contains(value)) {

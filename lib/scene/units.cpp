@@ -105,6 +105,32 @@ std::string describe(const Dimension& d) {
     return first ? std::string("dimensionless") : out.str();
 }
 
+std::string spoken(const Dimension& d) {
+    // As a scene writes them: "T" rather than "kg s^-2 A^-1". Where two quantities share base
+    // units (surface energy and stiffness) the names say both.
+    static const std::pair<Dimension, const char*> named[] = {
+        {length, "m, e.g. \"1.2 mm\""},
+        {mass, "kg"},
+        {time, "s, e.g. \"0.2 ms\""},
+        {frequency, "1/s, e.g. \"100 1/s\""},
+        {velocity, "m/s, e.g. \"0.273 m/s\""},
+        {acceleration, "m/s2, e.g. \"9.81 m/s2\""},
+        {force, "N"},
+        {pressure, "Pa, e.g. \"105 kPa\" or \"1 GPa\""},
+        {energy, "J"},
+        {surface_energy, "J/m2 or N/m"},
+        {density, "kg/m3, e.g. \"7800 kg/m3\""},
+        {viscosity, "Pa s, e.g. \"0.16 Pa s\""},
+        {damping, "N s/m"},
+        {magnetic_flux_density, "T, e.g. \"230 mT\""},
+        {magnetic_field, "A/m, e.g. \"1.7e6 A/m\""},
+        {magnetic_moment, "A m2"},
+    };
+    for (const auto& [dim, name] : named)
+        if (dim == d) return name;
+    return describe(d);
+}
+
 Quantity parse(const std::string& text) {
     const char* begin = text.c_str();
     char* end = nullptr;
@@ -139,7 +165,7 @@ double parse_as(const std::string& text, const Dimension& expected) {
     const Quantity q = parse(text);
     // J/m2 and N/m share base units with stiffness; dimension equality is all that matters.
     if (!(q.dimension == expected))
-        throw UnitError("\"" + text + "\" has units of " + describe(q.dimension) + ", expected " + describe(expected));
+        throw UnitError("\"" + text + "\" has units of " + describe(q.dimension) + ", expected " + spoken(expected));
     return q.value;
 }
 

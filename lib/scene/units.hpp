@@ -35,6 +35,9 @@ inline constexpr Dimension magnetic_moment{{2, 0, 0, 1}};          // A m^2
 
 // Human-readable form of a dimension, e.g. "m" or "kg m^-1 s^-2", for error messages.
 std::string describe(const Dimension&);
+// The unit a scene would write for this dimension, with an example ("T, e.g. \"230 mT\""); the
+// base units where the dimension has no common name.
+std::string spoken(const Dimension&);
 
 struct Quantity {
     double value;  // SI
