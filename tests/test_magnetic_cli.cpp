@@ -223,6 +223,15 @@ TEST_SUITE("cli") {
             CHECK(flat.err.find("flat_map.txt:4") != std::string::npos);
         }
         {
+            // A map scaled past 10 T, as a uniform field would be (a scale of 1e6 ran and blew up).
+            std::string nodes;
+            for (int k = 0; k < 8; ++k) nodes += "0 0 0.5\n";
+            write_text(dir.file("half_tesla.map"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n1e-5 1e-5 1e-5\n" + nodes);
+            json s = magnetic_scene();
+            s["magnetic"]["field"] = {{"type", "map"}, {"file", "half_tesla.map"}, {"scale", 1e6}};
+            expect_refused(dir, "scaled_map", s, "/magnetic/field/scale: raises the map's strongest node to 500000 T");
+        }
+        {
             // A damaged map: the message names the file and the line.
             write_text(dir.file("broken_map.txt"), "mrjam-fieldmap 1\n2 2 2\n0 0 0\n1e-5 1e-5 1e-5\n0 0 1\n0 0 one\n");
             json s = magnetic_scene();

@@ -348,10 +348,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                                                 " mm); solve it with the same valve (mrjam magnetics --field-map)");
         field_json = {{"type", "map"}, {"file", std::filesystem::absolute(path).string()}, {"scale", scale}};
         out.peak_flux_density = scale * map.largest_flux_density();
-        if (out.peak_flux_density > kLargestAppliedFluxDensity)
-            field.fail("scale", "raises the map's strongest node to " + format_number(out.peak_flux_density) +
-                                    " T, more than any magnet applies (" + format_number(kLargestAppliedFluxDensity) +
-                                    " T at most); give a smaller scale");
+        check_map_scale(field, "scale", out.peak_flux_density);
         out.field_map = std::make_shared<const FieldMap>(std::move(map));
     }
     field.finish();

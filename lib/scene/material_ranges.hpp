@@ -24,5 +24,12 @@ inline void check_applied_flux_density(const SceneNode& node, const std::string&
                            format_number(kLargestAppliedFluxDensity) +
                            " T at most; the valve's EPM gives 0.2-0.8 T): did you mean mT?");
 }
+// The same bound on a field map's strongest node once its `scale_key` has scaled it.
+inline void check_map_scale(const SceneNode& node, const std::string& scale_key, double scaled_peak_tesla) {
+    if (scaled_peak_tesla > kLargestAppliedFluxDensity)
+        node.fail(scale_key, "raises the map's strongest node to " + format_number(scaled_peak_tesla) +
+                                 " T, more than any magnet applies (" + format_number(kLargestAppliedFluxDensity) +
+                                 " T at most); give a smaller scale");
+}
 
 }  // namespace mrjam

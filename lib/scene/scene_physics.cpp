@@ -155,11 +155,15 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
             field.fail("file", "no field map at " + file +
                                    " (the format, a text grid of B, is in docs/scene.md under "
                                    "\"Magnetic forces\"; a relative path is taken from the scene file's folder)");
+        std::shared_ptr<FieldMap> map;
         try {
-            mag.field = std::make_shared<FieldMap>(FieldMap::read(file, scale));
+            map = std::make_shared<FieldMap>(FieldMap::read(file, scale));
         } catch (const std::exception& e) {
             field.fail("file", e.what());
         }
+        // The scaled map's strongest node, as a uniform field is checked (a scale of 1e6 blew up).
+        check_map_scale(field, "scale", map->largest_flux_density());
+        mag.field = map;
     }
     field.finish();
     MagneticSettings& st = mag.settings;
