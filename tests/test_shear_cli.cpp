@@ -360,6 +360,9 @@ TEST_SUITE("cli") {
              {"--calibrate " + quote(dir.file("data.csv")) + " --parameter 'friction=0.1 um:0.5'",
               "--calibrate " + quote(dir.file("data.csv")) + " --parameter friction=0:0.5xyz",
               "--calibrate " + quote(dir.file("data.csv")) + " --parameter '/material/fr~iction=0:1'",
+              // One key twice (by name and by pointer): a 2D search along one axis.
+              "--calibrate " + quote(dir.file("data.csv")) +
+                  " --parameter friction=0:1 --parameter /material/friction=0:2",
               std::string("--parameter friction=0:0.5"), std::string("--max-runs 3")}) {
             CAPTURE(bad_parameter);
             const Result refused = shear(dir, "badp", scene, "--quiet " + bad_parameter);

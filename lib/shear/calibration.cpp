@@ -155,6 +155,12 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector
                     "'; use rolling_friction, friction, rolling_damping, cohesion_energy_density, "
                     "relative_permeability, restitution, field_scale or a JSON pointer such as /material/friction");
         }
+        // The same key twice ("friction=0:1" and "/material/friction=0:2") would search a 2D grid
+        // along one axis.
+        for (const CalibrationParameter& q : out)
+            if (q.pointer == p.pointer)
+                throw SceneError("--parameter",
+                                 "'" + item + "' sets the same key as '" + q.name + "': give each parameter once");
         out.push_back(p);
     }
     return out;
