@@ -41,6 +41,13 @@ std::vector<std::pair<std::string, double>> read_constrictions(const json& list)
     return out;
 }
 
+// A block's error named from the design file's root; one without a JSON path (a command-line
+// option's) is left as it is.
+SceneError in_block(const std::string& block, const SceneError& e) {
+    if (e.path().empty() || e.path()[0] != '/') return e;
+    return e.at(block + e.path());
+}
+
 // Runs a block's scene reader and names its errors from the design file's root: "/jam/protocol/..."
 // rather than the block's own "/protocol/...".
 template <class Read>
@@ -48,8 +55,7 @@ auto within_block(const std::string& block, Read&& read) {
     try {
         return read();
     } catch (const SceneError& e) {
-        if (e.path().empty() || e.path()[0] != '/') throw;
-        throw e.at(block + e.path());
+        throw in_block(block, e);
     }
 }
 
@@ -138,8 +144,8 @@ SceneError for_constriction(const SceneError& e, const DesignSpec& spec, std::si
 }
 
 SceneError from_jam_run(const SceneError& e, const DesignSpec& spec, std::size_t index) {
-    if (e.path().empty() || e.path()[0] != '/') return e;
-    return for_constriction(e.at("/jam" + e.path()), spec, index);
+    if (e.path().empty() || e.path()[0] != '/') return e;  // an option's, not the jam block's
+    return for_constriction(in_block("/jam", e), spec, index);
 }
 
 void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_tier, const std::string& jam_tier) {

@@ -27,6 +27,11 @@ struct TimestepLimits {
 
 inline constexpr double kMaxStepFraction = 0.2;
 
+// More steps than any run could take: a duration, strain or unit gone wrong, or a step some
+// damping has shrunk. Refused where a mode turns its times into steps (a count past a long's
+// range would also wrap round to a one-step run).
+inline constexpr double kMostSteps = 1e15;
+
 TimestepLimits timestep_limits(const System& system, double characteristic_speed);
 
 // The scene's warning when the drag sets a step more than 10 times shorter than the contacts

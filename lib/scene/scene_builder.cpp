@@ -521,16 +521,14 @@ void choose_timestep(Scene& scene) {
     }
     if (const std::string w = drag_limited_step_warning(scene.limits); !w.empty()) scene.warnings.push_back(w);
     scene.resolved["run"]["timestep_used"] = s.dt;
-    // A duration over the step: far more steps than any run could take is a unit or an exponent
-    // gone wrong, and a count past a long's range would wrap round to a one-step run.
-    constexpr double kMaxSteps = 1e15;
+    // A duration over the step: far more steps than any run could take (kMostSteps) is refused.
     for (Stage& st : scene.stages) {
         if (st.steps >= 0) continue;
         const double steps = std::ceil(st.duration / s.dt - 1e-9);
-        if (!(steps <= kMaxSteps))
+        if (!(steps <= kMostSteps))
             throw SceneError(st.path + "/duration",
                              "needs " + format_number(steps) + " steps of " + format_number(s.dt) + " s, more than " +
-                                 format_number(kMaxSteps) +
+                                 format_number(kMostSteps) +
                                  ": check the duration's units, or the materials' that set the step (" +
                                  scene.limits.limiting + ")");
         st.steps = std::max(1L, static_cast<long>(steps));

@@ -18,6 +18,7 @@
 #include "shear/block_average.hpp"
 #include "shear/shear_analysis.hpp"
 #include "shear/shear_stress.hpp"
+#include "timestep.hpp"
 
 namespace mrjam {
 namespace {
@@ -159,7 +160,6 @@ private:
     // exponent gone wrong (a strain of 1e12 ran, showing "step 0/2.3e17"), or a step the damping
     // has shrunk: refused as run mode refuses a stage's duration.
     void check_step_counts(const CellPlan& plan) const {
-        constexpr double kMostSteps = 1e15;
         const double dt = scene_->system.dt;
         const std::string cause = ": check it, or what sets the step (" + scene_->limits.limiting + ")";
         for (std::size_t k = 0; k < plan.rates.size(); ++k) {
