@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -54,7 +56,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity, "Tier for both models: quick, standard or paper")
-            ->check(CLI::IsMember(jam_tier_names()))
+            ->check(CLI::IsMember(std::vector<std::string>{"quick", "standard", "paper"}))
             ->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
@@ -175,7 +177,7 @@ void add_design_command(CLI::App& app, int& exit_status) {
             const json jscene = design_jam_inputs(spec, dir, ms.resolved["valve"],
                                                   json{{"type", "map"}, {"file", fs::absolute(map).string()}});
             const JamScene js = design_jam_scene(spec, jscene, args->fidelity);
-            // Where the arch forms the field can be far from the active region's mean (docs/jam.md:
+            // Where the arch forms the field can be far from the active region's mean (docs/notes/jam_measurements.md:
             // 173 mT at the throat under a bracket whose mean is 223 mT), so the axis values are
             // reported, from the map as written (17 digits: as solved) and read by the jam scene.
             const FieldMap& field_map = *js.field_map;

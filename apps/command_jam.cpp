@@ -1,6 +1,7 @@
 // `mrjam jam SCENE.json --report R.json [--seeds N]`: will this fluid jam in this constriction
 // under this field, how fast, and does it let go when the field is switched off?
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "core/format.hpp"
+#include "jam/continuum_tier.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
 #include "run/interrupt.hpp"
@@ -37,7 +39,7 @@ struct JamArgs {
 // Snapshot interval: a time with units ("0.1 ms") or plain seconds; by default 20 frames over
 // the no-field and field periods.
 double snapshot_interval(const std::string& text, const JamScene& scene) {
-    if (text.empty()) return (scene.protocol.flow_time + scene.protocol.max_time) / 20.0;
+    if (text.empty()) return scene.protocol.longest_run_before_arrest() / 20.0;
     char* end = nullptr;
     double t = std::strtod(text.c_str(), &end);  // plain seconds
     if (end != text.c_str() + text.size()) {
@@ -50,7 +52,7 @@ double snapshot_interval(const std::string& text, const JamScene& scene) {
     if (!(t > 0) || !std::isfinite(t))
         throw SceneError("--snapshot-every", "must be a positive time, such as \"0.1 ms\"");
     // A frame of a large valve is tens of MB: more than a few thousand is a slip of units.
-    const double run = scene.protocol.flow_time + scene.protocol.max_time;
+    const double run = scene.protocol.longest_run_before_arrest();
     constexpr double kMostFrames = 2000;
     if (run / t > kMostFrames)
         throw SceneError("--snapshot-every", "would write more than " + std::to_string(static_cast<int>(kMostFrames)) +
@@ -61,8 +63,34 @@ double snapshot_interval(const std::string& text, const JamScene& scene) {
         throw SceneError(
             "--snapshot-every",
             "is longer than the run (" + format_number(run * 1e3) +
-                " ms of flow and field), so only the first frame would be written; give a shorter interval");
+                " ms before an arrest), so only the first frame would be written; give a shorter interval");
     return t;
+}
+// The continuum tier: a Bingham plug with the shear mode's yield stress, no grains (a second).
+int run_continuum_tier(const JamArgs& args, const JamScene& scene, bool seeds_given) {
+    if (seeds_given || !args.snapshots.empty())
+        throw SceneError(seeds_given ? "--seeds" : "--snapshots",
+                         "the continuum tier has no grains (no packing to seed, nothing to snapshot): drop it");
+    const auto start = std::chrono::steady_clock::now();
+    nlohmann::json report = {{"mrjam_version", MRJAM_VERSION},
+                             {"mode", "jam"},
+                             {"status", "complete"},
+                             {"scene_file", args.scene},
+                             {"inputs_jam", scene.resolved},
+                             {"fidelity", {{"jam_tier", "continuum"}}},
+                             {"warnings", nlohmann::json::array()}};
+    report["results"] = continuum_results(scene, report["warnings"]);
+    report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    write_json_file(args.report, report);
+    if (!args.quiet) {
+        for (const auto& w : report["warnings"]) std::cerr << "[jam] warning: " << w.get<std::string>() << "\n";
+        const nlohmann::json& r = report["results"];
+        std::cerr << "[jam] continuum: " << r["outcome"].get<std::string>() << "; the plug holds "
+                  << format_number(r["continuum"]["hold_pressure_Pa"].get<double>() / 1e3, 3)
+                  << " kPa against a supply of " << format_number(scene.flow.supply_pressure / 1e3, 3)
+                  << " kPa; report " << args.report << "\n";
+    }
+    return 0;
 }
 }  // namespace
 
@@ -78,7 +106,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
                     "Simulated time between snapshots, e.g. \"0.1 ms\" (default: 20 frames)");
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
     CLI::Option* fidelity =
-        cmd->add_option("--fidelity", args->fidelity, "quick, standard or paper (scene settings win)")
+        cmd->add_option("--fidelity", args->fidelity,
+                        "quick, standard or paper (DEM; scene settings win), or continuum (a Bingham plug)")
             ->check(CLI::IsMember(jam_tier_names()))
             ->capture_default_str();
     CLI::Option* seeds_option =
@@ -134,6 +163,10 @@ void add_jam_command(CLI::App& app, int& exit_status) {
             throw SceneError("/fluid/supply_pressure",
                              "drives the pressure-driven flows only, and fluid/flow is \"prescribed\": "
                              "give fluid/flow \"pressure\" or \"coupled\", or drop it");
+        if (scene.tier == "continuum") {
+            exit_status = run_continuum_tier(*args, scene, seeds_option->count() > 0);
+            return;
+        }
         const int seeds = campaign["seeds"].get<int>();
         if (args->snapshots.empty() && !args->snapshot_every.empty())
             throw SceneError("--snapshot-every", "sets the interval of --snapshots DIR: give that too, or drop it");

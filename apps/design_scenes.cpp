@@ -154,9 +154,12 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
             const fs::path dir = spec.output_directory / name;
             const auto ms = design_magnetics_scene(spec, dir, diameter, magnetics_tier);
             const JamScene js = design_jam_scene(
-                spec, design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}}), jam_tier);
-            // The field map covers the magnetics valve's tube; the jam run models its own length of
-            // it, which must lie inside (found after the solve, this stopped the design there).
+                spec,
+                design_jam_inputs(spec, dir, ms.resolved["valve"], json{{"type", "uniform"}, {"flux_density", 0.0}}),
+                jam_tier);
+            // (A zero uniform field stands in for the map to come.) The field map covers the
+            // magnetics valve's tube; the jam run models its own length of it, which must lie inside
+            // (found after the solve, this stopped the design there).
             const double up = ms.resolved["valve"]["upstream_length"].get<double>();
             const double down = ms.resolved["valve"]["downstream_length"].get<double>();
             for (const auto& [key, jam_length, field_length] :

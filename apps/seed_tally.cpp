@@ -10,8 +10,8 @@ SeedTally tally_seeds(const nlohmann::json& records) {
     SeedTally t;
     for (const auto& run : records) {
         ++t.seeds;
-        // A seed with no no-field flux (`undetermined`) says nothing about jamming: it is left
-        // out of the probabilities, not counted as a flow.
+        // A report from before the clog was named ("undetermined": no no-field flux) is left out of
+        // the probabilities; a clog now counts as stopping the flow (stops_flow).
         if (run.value("outcome", std::string()) == "undetermined") continue;
         ++t.judged;
         const bool arrested = run["time_to_arrest_s"].is_number();  // a number exactly when the seed arrested

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The jam predictor's measured table (docs/jam.md, "Where it stands") from finished reports.
+"""The jam predictor's measured table (docs/notes/jam_measurements.md, "Where it stands") from finished reports.
 
 One row per `mrjam jam` report, and one per later seed of a `--seeds N` report: case, tier,
 seed, grains, outcome, time to arrest, grains passed before it, the grain flux over the last

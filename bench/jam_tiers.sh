@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The jam predictor's table of each case at a tier (docs/jam.md, "Where it stands"): the bundled
+# The jam predictor's table of each case at a tier (docs/notes/jam_measurements.md, "Where it stands"): the bundled
 # Mix 2 valves at 20x, 30x and 40x in a uniform 230 mT, each with a 1 ms hold, N seeds each, JOBS
 # runs at a time (default 2, one thread each), then the table (bench/jam_table.py). A report that
 # finished before is kept and one interrupted (Ctrl-C) is resumed from its checkpoint, so a stopped
@@ -8,18 +8,18 @@
 #   bash bench/jam_tiers.sh [quick|standard|paper] [seeds] [build/mrjam] [out/jam_tiers]
 #
 # YOUNGS='0.5 GPa' sets the grains' Young's modulus (the examples': 1 GPa) and names the runs
-# after it: the cost in accuracy of softer, faster grains (docs/jam.md, "Softer grains").
+# after it: the cost in accuracy of softer, faster grains (docs/notes/jam_measurements.md, "Softer grains").
 # HOLD=K evaluates the magnetic forces every K steps and holds them in between
-# (model/magnetic_update_interval), naming the runs after it (docs/jam.md, "Held magnetic forces").
+# (model/magnetic_update_interval), naming the runs after it (docs/notes/jam_measurements.md, "Held magnetic forces").
 # LOOKUP=K looks the carrier flow up at the grains every K steps (model/flow_lookup_interval),
 # naming the runs after it.
 # SLAB=K sets the slab's thickness to K largest-grain diameters (model/slab_thickness_diameters),
-# naming the runs after it (docs/jam.md, "A 2-diameter slab").
+# naming the runs after it (docs/notes/jam_measurements.md, "A 2-diameter slab").
 #
 # Quick tier: 2-6 minutes of a core per seed and case. Standard: 75-105 minutes. The 10 um mix
 # (examples/valve_10um_30x.json) takes hours even at the quick tier; FINE=1 adds it. FINE=quick adds
 # examples/valve_10um_30x_quick.json instead, its speed settings stacked and ended by a steady flow
-# (about 40 minutes of a core per seed; docs/jam.md, "The 10 um mix in minutes").
+# (about 40 minutes of a core per seed; docs/notes/jam_measurements.md, "The 10 um mix in minutes").
 set -euo pipefail
 TIER=${1:-quick}
 SEEDS=${2:-1}

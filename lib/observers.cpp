@@ -27,6 +27,15 @@ double mean_coordination(const System& s) {
     return n ? 2.0 * static_cast<double>(s.contact_stats.contacts) / static_cast<double>(n) : 0.0;
 }
 
+double induced_magnetic_energy(const System& s) {
+    if (!s.magnetic.enabled || !s.magnetic.field) return 0.0;
+    double sum = 0;
+    const auto& g = s.particles;
+    for (std::size_t i = 0; i < g.size(); ++i)
+        sum += dot(g.dipole_moment[i], s.magnetic.field->flux_density(g.position[i], s.time));
+    return -0.5 * sum;
+}
+
 nlohmann::json state_summary(const System& s) {
     const EnergyBreakdown e = energy(s);
     nlohmann::json j;

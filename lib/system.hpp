@@ -31,7 +31,7 @@ struct PhysicsSettings {
     // velocity and hindered-drag factor at each grain are looked up every `flow_lookup_interval`
     // steps and held in between; the drag itself uses the grain's velocity of every step. A grain
     // moves a few nanometres a step against flow features microns wide, while the lookup (grid
-    // search, interpolation) was a tenth of the 10 um valve's step (docs/jam.md, "Held
+    // search, interpolation) was a tenth of the 10 um valve's step (docs/notes/jam_measurements.md, "Held
     // carrier-flow lookups", measures both). 1: every step.
     int flow_lookup_interval = 1;
     bool gravity = false;

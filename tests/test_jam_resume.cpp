@@ -8,6 +8,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "test_support.hpp"
@@ -23,13 +24,17 @@ namespace {
 // an arrest, so the release phase is run too. The pressure-driven flow at a low supply pressure
 // (10 kPa) throttles the flow during the run (its scale moves between about 0.3 and 1), so its
 // controller's state must survive a resume as well.
-json tiny_scene(const std::string& out, long checkpoint_every) {
+// Open first by default (the flow, field_on and release phases); closed first adds a brief
+// magnetisation at rest (settle checks every 0.01 ms, at most 0.03 ms) before the pressure.
+json tiny_scene(const std::string& out, long checkpoint_every, bool closed_first = false) {
     json scene = {
         {"valve", {{"constriction", "30x"}, {"taper_length", "0.3 mm"}, {"throat_length", "0.1 mm"}}},
         {"fluid", {{"flow", "pressure"}, {"supply_pressure", "10 kPa"}}},
+        {"field", {{"type", "uniform"}, {"flux_density", "230 mT"}}},
         {"model", {{"upstream_length", "0.45 mm"}, {"downstream_length", "0.2 mm"}, {"slab_thickness_diameters", 2}}},
         {"protocol",
-         {{"flow_time", "0.06 ms"},
+         {{"order", "open_first"},
+          {"flow_time", "0.06 ms"},
           {"max_time", "0.03 ms"},
           {"arrest_window", "0.008 ms"},
           {"arrest_fraction", 0.95},
@@ -37,6 +42,9 @@ json tiny_scene(const std::string& out, long checkpoint_every) {
           {"observe_every_steps", 20}}},
         {"output", {{"directory", out}}}};
     if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;
+    if (closed_first)
+        scene["protocol"].update(
+            {{"order", "closed_first"}, {"magnetise_time", "0.03 ms"}, {"settle_window", "0.01 ms"}});
     return scene;
 }
 
@@ -177,6 +185,52 @@ TEST_SUITE("cli") {
         const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
         CHECK(bad.exit_code == 2);
         CHECK(bad.err.find("--resume") != std::string::npos);
+    }
+
+    // Closed first the grains are magnetised at rest before the pressure: a checkpoint while they
+    // settle, or under pressure, resumes to the same settle checks, arrest and release.
+    TEST_CASE(
+        "jam --resume: closed first, a checkpoint while magnetising or under pressure ends as the uninterrupted run") {
+        TempDir dir;
+        const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0, true), "");
+        CAPTURE(full.err);
+        REQUIRE(full.exit_code == 0);
+        const json a = json::parse(slurp(dir.file("full_report.json")));
+        const std::vector<long> steps = stage_steps(a);
+        REQUIRE(steps.size() == 4);  // flow, magnetise, pressure, release
+        CHECK(a["results"]["order"] == "closed_first");
+        const json& magnetisation = a["results"]["magnetisation"];
+        REQUIRE(magnetisation["history"]["rows"].size() >= 2);
+        // The pressure is applied when the magnetisation ended, and the judged period counts from there.
+        CHECK(a["results"]["judged_from_s"].get<double>() >= 0.06e-3);
+        // The fluid is at rest while the grains are magnetised: the flow scale is 0 in that period.
+        const double magnetised_until = a["results"]["judged_from_s"].get<double>();
+        long resting = 0;
+        for (const auto& row : a["results"]["flow_history"]["rows"])
+            if (row[0].get<double>() > 0.0605e-3 && row[0].get<double>() < magnetised_until) {
+                CHECK(row[1].get<double>() == 0.0);
+                ++resting;
+            }
+        CHECK(resting > 0);
+        const long total = steps[0] + steps[1] + steps[2] + steps[3];
+        for (const auto& [phase, start, end] :
+             {std::tuple<std::string, long, long>{"magnetise", steps[0], steps[0] + steps[1]},
+              {"pressure", steps[0] + steps[1], steps[0] + steps[1] + steps[2]}}) {
+            CAPTURE(phase);
+            const long every = (std::max(start, total / 2) + end) / 2 + 1;  // inside the phase, and 2N > total
+            REQUIRE(every > start);  // the brief stages put half the run inside the magnetisation
+            REQUIRE(every < end);
+            const std::string name = "cut_" + phase;
+            REQUIRE(jam(dir, name, tiny_scene(dir.file("out_" + name), every, true), "").exit_code == 0);
+            const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+            REQUIRE(fs::exists(ck));
+            const Result resumed = mrjam(
+                dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+            CAPTURE(resumed.err);
+            REQUIRE(resumed.exit_code == 0);
+            const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+            CHECK(comparable(b)["results"] == comparable(a)["results"]);
+        }
     }
 
     // A run checkpointed half-way through the field period and resumed must end as the

@@ -85,7 +85,7 @@ AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, b
         out.stretch_pressure = sum_d1 - sum_dv;
         return out;
     }
-    const double drive_pressure = supply > 0 ? supply : pressure_;
+    const double drive_pressure = supply >= 0 ? supply : pressure_;
     out.scale = std::clamp((drive_pressure + sum_dv) / (pressure_ + sum_d1), 0.0, drive_pressure / pressure_);
     out.stretch_pressure = out.scale * sum_d1 - sum_dv;
     flow.set_drag_factors(z_lo_, dz_, std::move(factor));

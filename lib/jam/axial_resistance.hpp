@@ -49,8 +49,9 @@ public:
                     double cell_length, double feed_fraction, double supply_pressure);
     // Recomputes the cells from the grains; when `drive` sets the flow's drag factors and scale,
     // otherwise (the prescribed flow) only measures, with Stokes drag (factors 1, scale 1).
-    // `supply` is the supply pressure now (the circuit stays sized for the scene's); 0 for that one.
-    AxialResistanceState update(const System& s, ValveFlow& flow, bool drive, double supply = 0) const;
+    // `supply` is the supply pressure now (the circuit stays sized for the scene's); negative for that
+    // one; 0 stops the fluid (closed first, the grains are magnetised at rest).
+    AxialResistanceState update(const System& s, ValveFlow& flow, bool drive, double supply = -1) const;
     // Sets the flow's cell factors (as update() does; for a resumed run).
     void apply(ValveFlow& flow, std::vector<double> factors) const {
         flow.set_drag_factors(z_lo_, dz_, std::move(factors));

@@ -132,7 +132,7 @@ AxialResistanceState CoupledFlow::update(const System& s, double supply) const {
         sum_resistance += dz / qa[k];
     }
     // P = R_c Q + sum_k dz_k (Q - Qb_k) / Qa_k; clear fluid runs at Q0 P / P_0 at most.
-    const double drive_pressure = supply > 0 ? supply : set_.supply_pressure;
+    const double drive_pressure = supply >= 0 ? supply : set_.supply_pressure;
     const double q = std::clamp((drive_pressure + sum_b) / (circuit_resistance_ + sum_resistance), 0.0,
                                 q0_ * drive_pressure / set_.supply_pressure);
     std::vector<double> u(cells);

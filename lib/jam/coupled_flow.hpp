@@ -55,8 +55,8 @@ public:
     std::shared_ptr<CoupledValveFlow> field() const { return field_; }
     // Bins the grains, solves the slices and the circuit, and sets the field the grains feel.
     // `supply` is the supply pressure now (protocol/hold_pressure; the circuit stays sized for the
-    // settings' supply_pressure); 0 for that one.
-    AxialResistanceState update(const System& s, double supply = 0) const;
+    // settings' supply_pressure); negative for that one; 0 stops the fluid.
+    AxialResistanceState update(const System& s, double supply = -1) const;
     double reference_flow_rate() const { return q0_; }
     // What the clear stretch costs at Q0 (Poiseuille on the grid), Pa.
     double clear_stretch_pressure() const { return clear_pressure_; }

@@ -15,6 +15,18 @@ namespace {
 json vec(double x, double y, double z) { return json::array({x, y, z}); }
 }  // namespace
 
+json jam_stages(const JamProtocol& p) {
+    json stages = json::array({{{"name", "flow"}, {"duration", p.flow_time}}});
+    if (p.order == JamOrder::closed_first) {
+        stages.push_back({{"name", "magnetise"}, {"duration", p.magnetise_time}});
+        stages.push_back({{"name", "pressure"}, {"duration", p.max_time}});
+    } else {
+        stages.push_back({{"name", "field_on"}, {"duration", p.max_time}});
+    }
+    stages.push_back({{"name", "release"}, {"duration", std::max(p.hold_time + p.release_time, 1e-12)}});
+    return stages;
+}
+
 json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     const ValveGeometry& v = js.valve;
     const double rb = v.bore_radius();
@@ -121,23 +133,19 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     if (in.neighbour_skin > 0) run_json["skin"] = in.neighbour_skin;
     json fluid_json = {{"viscosity", in.viscosity}, {"flow", flow_json}};
     if (in.flow_lookup_interval > 1) fluid_json["lookup_interval"] = in.flow_lookup_interval;
-    return {
-        {"description", "mrjam jam: generated from the jam scene"},
-        {"seed", in.seed},
-        {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
-        {"materials", materials},
-        {"material_pairs", material_pairs},
-        {"contact", contact_json},
-        {"fluid", fluid_json},
-        {"walls", walls},
-        {"grains", batches},
-        {"magnetic", magnetic_json},
-        {"run", run_json},
-        {"stages", json::array({{{"name", "flow"}, {"duration", js.protocol.flow_time}},
-                                {{"name", "field_on"}, {"duration", js.protocol.max_time}},
-                                {{"name", "release"},
-                                 {"duration", std::max(js.protocol.hold_time + js.protocol.release_time, 1e-12)}}})},
-        {"output", output_json}};
+    return {{"description", "mrjam jam: generated from the jam scene"},
+            {"seed", in.seed},
+            {"domain", {{"lo", vec(-hx, -rb, -d_up)}, {"hi", vec(hx, rb, d_down)}, {"periodic", "z"}}},
+            {"materials", materials},
+            {"material_pairs", material_pairs},
+            {"contact", contact_json},
+            {"fluid", fluid_json},
+            {"walls", walls},
+            {"grains", batches},
+            {"magnetic", magnetic_json},
+            {"run", run_json},
+            {"stages", jam_stages(js.protocol)},
+            {"output", output_json}};
 }
 
 }  // namespace mrjam

@@ -30,4 +30,9 @@ struct JamEngineInputs {
 
 nlohmann::json jam_engine_scene(const JamScene& js, const JamEngineInputs& in);
 
+// The engine's stages for the protocol's order: flow (no field, the reference), then closed first
+// magnetise (field on, fluid at rest) and pressure (supply on), or open first field_on; then
+// release (the hold, if any, and the field off).
+nlohmann::json jam_stages(const JamProtocol& p);
+
 }  // namespace mrjam

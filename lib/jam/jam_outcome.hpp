@@ -11,7 +11,9 @@
 namespace mrjam {
 
 struct JamVerdict {
-    bool undetermined = false;  // no grain crossed the throat without field: nothing to compare with
+    bool undetermined = false;  // no grain crossed the throat without field, and few would have
+    bool clogged = false;       // no grain crossed the throat without field, though many would have
+    bool field_free = false;    // the scene applies no field: an arrest is a plain clog
     bool incomplete = false;    // the run stopped (interrupted, blew up) before its protocol ended
     bool blew_up = false;       // ... because it blew up: no resume will finish it as it stands
     bool jammed = false;        // the grain flux arrested with the field on
@@ -20,7 +22,8 @@ struct JamVerdict {
     bool released = false;      // the flux came back with the field off
 };
 
-// "success", "fail-no-jam", "fail-no-hold", "fail-irreversible", or why there is none yet.
+// "success", "fail-no-jam", "fail-no-hold", "fail-irreversible", "clog" (the throat clogs with no
+// field: in the no-field reference flow, or in a scene without a field), or why there is none yet.
 std::string jam_outcome_word(const JamVerdict& v);
 
 // Did the valve stop the grains (and, with a hold, keep them stopped)? What the jam probability counts.

@@ -5,15 +5,22 @@ namespace mrjam {
 nlohmann::json JamProtocolState::save() const {
     nlohmann::json history = nlohmann::json::array();
     for (const auto& f : flow_history) history.push_back({f.time, f.scale, f.stretch_pressure, f.max_fraction});
+    nlohmann::json settle = nlohmann::json::array();
+    for (const auto& x : settle_history) settle.push_back({x.time, x.coordination, x.magnetic_energy});
     return {{"flux", flux.save()},
             {"base_rate", base_rate},
             {"arrest_time", arrest_time},
             {"release_start", release_start},
+            {"judged_from", judged_from},
+            {"settle_history", settle},
+            {"settled", settled},
+            {"magnetise_end", magnetise_end},
             {"passed_at_switch_on", passed_at_switch_on},
             {"passed_at_arrest", passed_at_arrest},
             {"jammed", jammed},
             {"released", released},
             {"undetermined", undetermined},
+            {"reference_expected", reference_expected},
             {"steady", steady},
             {"batch", {drained, upstream_at_start, upstream_at_arrest, upstream_now}},
             {"flow_scale", flow_state.scale},
@@ -29,11 +36,18 @@ void JamProtocolState::restore(const nlohmann::json& st) {
     base_rate = st.at("base_rate");
     arrest_time = st.at("arrest_time");
     release_start = st.at("release_start");
+    judged_from = st.at("judged_from");
+    settled = st.at("settled");
+    magnetise_end = st.at("magnetise_end");
+    settle_history.clear();
+    for (const auto& row : st.at("settle_history"))
+        settle_history.push_back({row.at(0).get<double>(), row.at(1).get<double>(), row.at(2).get<double>()});
     passed_at_switch_on = st.at("passed_at_switch_on");
     passed_at_arrest = st.at("passed_at_arrest");
     jammed = st.at("jammed");
     released = st.at("released");
     undetermined = st.at("undetermined");
+    reference_expected = st.at("reference_expected");
     steady = st.value("steady", false);
     if (st.contains("batch")) {  // checkpoints written before model/supply have none
         const auto b = st.at("batch").get<std::vector<long>>();

@@ -18,14 +18,33 @@ struct ClusterView {
     bool spans = false, valid = false;
 };
 
+// The magnetised structure at one settle check (protocol/order closed_first).
+struct SettleSample {
+    double time = 0;
+    double coordination = 0;     // mean contacts per grain
+    double magnetic_energy = 0;  // J, the grains' energy in the applied field (observers.hpp)
+};
+
 struct JamProtocolState {
     ThroatFlux flux{0.0};
     double base_rate = 0;       // the no-field flux (second half of the flow period), grains/s
     double arrest_time = -1;    // from field-on to the start of the low-flux window, s
     double release_start = -1;  // when the field went off after the arrest, s
+    // When the judged period began (s): the pressure applied (closed first) or the field switched
+    // on (open first); -1 before. Time to arrest and grains passed count from here.
+    double judged_from = -1;
+    // Closed first: the settle checks, whether they found the structure settled, and when the
+    // magnetisation ended (-1 before).
+    std::vector<SettleSample> settle_history;
+    bool settled = false;
+    double magnetise_end = -1;
     long passed_at_switch_on = 0, passed_at_arrest = 0;
     bool jammed = false, released = false, steady = false;
     bool undetermined = false;  // no grain crossed during the no-field flow: nothing to compare with
+    // Grains the carrier would bring across the throat over the reference period if nothing
+    // stopped them (grains per length of tube times the bore speed times the period): with many
+    // expected and none crossing, the throat clogged; with few, the flow is too slow to tell.
+    double reference_expected = 0;
     // A finite batch (model/supply "batch"): grains taken out at the outlet, and those upstream of
     // the throat plane at the first observation, at the arrest and at the latest (-1 before).
     long drained = 0, upstream_at_start = -1, upstream_at_arrest = -1, upstream_now = -1;

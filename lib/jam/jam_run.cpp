@@ -15,6 +15,7 @@
 #include "jam/contact_clusters.hpp"
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_checkpoint.hpp"
+#include "jam/jam_engine_scene.hpp"
 #include "jam/jam_outcome.hpp"
 #include "jam/jam_picture.hpp"
 #include "jam/jam_protocol_state.hpp"
@@ -22,6 +23,7 @@
 #include "jam/steady_flow.hpp"
 #include "jam/throat_flux.hpp"
 #include "jam/throat_span.hpp"
+#include "observers.hpp"
 #include "run/runner.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
@@ -67,12 +69,21 @@ nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, do
             {"closed_flow_share_at_end", number_or_null(leak)}};
 }
 
+// An arrest is a window whose grain count falls below arrest_fraction of the no-field count.
+// With few grains per window a flowing bed's count is zero by chance (Poisson: e^-20 ~ 2e-9 at 20
+// grains, e^-5 ~ 7e-3 at 5, tested at every observation), so the arrest may be noise; likewise a
+// reference period that would carry fewer than this many grains across says nothing by passing none.
+constexpr double kFewestGrainsPerWindow = 20;
+
 // What the run says about the valve, for the outcome's words and the jam probability; `hold` is
 // hold_results() (null without a hold, or before the run has held that long).
-JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const nlohmann::json& hold, bool incomplete,
+JamVerdict jam_verdict(const JamProtocolState& st, const JamScene& js, const nlohmann::json& hold, bool incomplete,
                        bool blew_up) {
+    const JamProtocol& p = js.protocol;
     JamVerdict v;
-    v.undetermined = st.undetermined;
+    v.field_free = !(js.peak_flux_density > 0);
+    v.clogged = st.undetermined && st.reference_expected >= kFewestGrainsPerWindow;
+    v.undetermined = st.undetermined && !v.clogged;
     v.incomplete = incomplete;
     v.blew_up = blew_up;
     v.jammed = st.jammed;
@@ -82,10 +93,7 @@ JamVerdict jam_verdict(const JamProtocolState& st, const JamProtocol& p, const n
     return v;
 }
 
-// An arrest is a window whose grain count falls below arrest_fraction of the no-field count.
-// With few grains per window a flowing bed's count is zero by chance (Poisson: e^-20 ~ 2e-9 at 20
-// grains, e^-5 ~ 7e-3 at 5, tested at every observation), so the arrest may be noise.
-constexpr double kFewestGrainsPerWindow = 20;
+// A window of the no-field flux holding fewer than kFewestGrainsPerWindow grains.
 std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
     const double per_window = base_rate * p.arrest_window;
     if (!(base_rate > 0) || per_window >= kFewestGrainsPerWindow) return {};
@@ -96,7 +104,7 @@ std::string sparse_window_warning(double base_rate, const JamProtocol& p) {
 
 // A jet (the coupled flow's, or the prescribed converging profile's) cut short by a tube length
 // the scene fixed (lib/jam/jam_scene.cpp keeps it): the grains pile up where the stream slows,
-// which blew up the 10 um mix, and a 44 um 20x case with a 24 um jet (docs/jam.md).
+// which blew up the 10 um mix, and a 44 um 20x case with a 24 um jet (docs/notes/jam_measurements.md).
 std::string short_jet_warning(const JamScene& js) {
     if (js.valve.is_slot() || !(js.flow.jet_length > 0) || js.flow.jet_length >= js.valve.taper_length) return {};
     return std::string(js.flow.coupled ? "the coupled flow's" : "the converging profile's") + " jet re-opens over " +
@@ -111,14 +119,70 @@ std::string short_jet_warning(const JamScene& js) {
 // An error in the generated engine scene, named by the jam scene's key the user wrote: a packing
 // it cannot make is the feed's volume fraction, a stage with too many steps its protocol time
 // (the stages are flow, field_on, release; jam_engine_scene.cpp).
-SceneError as_jam_key(const SceneError& e) {
+SceneError as_jam_key(const SceneError& e, const JamProtocol& p) {
     const std::string& path = e.path();
     if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
         return e.at("/grains/volume_fraction");
-    if (path == "/stages/0/duration") return e.at("/protocol/flow_time");
-    if (path == "/stages/1/duration") return e.at("/protocol/max_time");
-    if (path == "/stages/2/duration") return e.at("/protocol/release_time");
+    const nlohmann::json stages = jam_stages(p);
+    for (std::size_t k = 0; k < stages.size(); ++k) {
+        if (path != "/stages/" + std::to_string(k) + "/duration") continue;
+        const std::string name = stages[k]["name"];
+        return e.at(name == "flow"        ? "/protocol/flow_time"
+                    : name == "magnetise" ? "/protocol/magnetise_time"
+                    : name == "release"   ? "/protocol/release_time"
+                                          : "/protocol/max_time");
+    }
     return e;
+}
+
+// What each engine stage is to the protocol (jam_stages): the no-field reference flow, the
+// magnetisation at rest (closed first), the judged period (pressure on, or field on open first),
+// and the release.
+enum class JamPhase { reference, magnetise, judged, release };
+JamPhase jam_phase(const JamProtocol& p, std::size_t stage) {
+    if (stage == 0) return JamPhase::reference;
+    if (p.order == JamOrder::closed_first)
+        return stage == 1 ? JamPhase::magnetise : stage == 2 ? JamPhase::judged : JamPhase::release;
+    return stage == 1 ? JamPhase::judged : JamPhase::release;
+}
+
+// Relative change from a to b; 0 when both are 0 (no contacts, or no field, stays settled).
+double relative_change(double a, double b) {
+    const double scale = std::max(std::abs(a), std::abs(b));
+    return scale > 0 ? std::abs(b - a) / scale : 0.0;
+}
+
+// Closed first: a settle check every protocol/settle_window from the start of the magnetisation.
+// Settled once both the mean contact number and the magnetic energy changed by less than
+// settle_tolerance over the last window, after at least two windows.
+bool magnetised_structure_settled(JamProtocolState& st, const System& sys, const JamProtocol& p) {
+    if (!st.settle_history.empty() && sys.time < st.settle_history.back().time + p.settle_window) return false;
+    st.settle_history.push_back({sys.time, mean_coordination(sys), induced_magnetic_energy(sys)});
+    const std::size_t n = st.settle_history.size();
+    if (n < 3) return false;
+    const SettleSample &a = st.settle_history[n - 2], &b = st.settle_history[n - 1];
+    return relative_change(a.coordination, b.coordination) < p.settle_tolerance &&
+           relative_change(a.magnetic_energy, b.magnetic_energy) < p.settle_tolerance;
+}
+
+// The report's account of the magnetisation at rest (closed first), with the criterion's values.
+nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtocol& p) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const SettleSample& x : st.settle_history) rows.push_back({x.time, x.coordination, x.magnetic_energy});
+    const std::size_t n = st.settle_history.size();
+    nlohmann::json last_change = nullptr;
+    if (n >= 2)
+        last_change = {{"coordination",
+                        relative_change(st.settle_history[n - 2].coordination, st.settle_history[n - 1].coordination)},
+                       {"magnetic_energy", relative_change(st.settle_history[n - 2].magnetic_energy,
+                                                           st.settle_history[n - 1].magnetic_energy)}};
+    return {{"criterion",
+             "mean contact number and magnetic energy (-1/2 sum m.B0) each change by less than "
+             "protocol/settle_tolerance over one protocol/settle_window, after at least two windows"},
+            {"settled", st.settled},
+            {"duration_s", st.magnetise_end >= 0 ? nlohmann::json(st.magnetise_end - p.flow_time) : nullptr},
+            {"last_window_change", last_change},
+            {"history", {{"columns", {"time_s", "mean_coordination", "magnetic_energy_J"}}, {"rows", rows}}}};
 }
 
 // The flux is counted at observations: a window (or the no-field reference, the flow period's
@@ -169,34 +233,48 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
                                                    : "max_time";
     const nlohmann::json hold =
         js.protocol.hold_time > 0 ? hold_results(st, js.protocol, js.flow.supply_pressure) : nlohmann::json(nullptr);
-    const JamVerdict verdict = jam_verdict(st, js.protocol, hold, incomplete, blew_up);
+    const JamVerdict verdict = jam_verdict(st, js, hold, incomplete, blew_up);
     r["outcome"] = jam_outcome_word(verdict);
     r["stops_flow"] = jam_stops_flow(verdict);
     if (st.steady)
         report["warnings"].push_back(
             "the field period ended on a steady flow (protocol/steady_window), which was "
             "taken as no jam: arrests can come late after a long steady flow (on the bundled "
-            "cases every window up to 1 ms missed one; docs/jam.md), so confirm a no-jam "
+            "cases every window up to 1 ms missed one; docs/notes/jam_measurements.md), so confirm a no-jam "
             "outcome with steady_window 0");
     for (const std::string& w :
          {sparse_window_warning(st.base_rate, js.protocol), short_jet_warning(js), saturated_field_warning(js)})
         if (!w.empty()) report["warnings"].push_back(w);
-    if (st.undetermined)
+    r["reference_grains_expected"] = st.reference_expected;
+    if (st.undetermined && verdict.clogged)
         report["warnings"].push_back(
-            "no grains crossed the throat during the no-field flow, so an arrest cannot be "
-            "told from a blocked start: lengthen protocol/flow_time or check the flow");
+            "no grain crossed the throat over the second half of the no-field flow, where the carrier would "
+            "have brought about " +
+            format_number(st.reference_expected, 3) +
+            ": the constriction clogs without the field (outcome clog; it would not open)");
+    else if (st.undetermined)
+        report["warnings"].push_back(
+            "no grains crossed the throat during the no-field flow, and the carrier would have brought only about " +
+            format_number(st.reference_expected, 3) +
+            ", so an arrest cannot be told from a blocked start: lengthen protocol/flow_time or check the flow");
     r["largest_cluster"] = view.largest;
     r["clusters"] = view.count;
     r["largest_cluster_spans_throat"] = view.spans;
     r["clusters_seen_at"] = st.arrest_view.valid ? "arrest" : "end of run";
     r["flux_history"] = {{"columns", {"time_s", "net_grains_passed"}}, {"rows", history}, {"partial", incomplete}};
     r["field_switched_on_s"] = js.protocol.flow_time;
+    const bool closed_first = js.protocol.order == JamOrder::closed_first;
+    r["order"] = closed_first ? "closed_first" : "open_first";
+    // Time to arrest and grains passed count from here: the pressure applied (closed first) or
+    // the field switched on (open first).
+    r["judged_from_s"] = number_or_null(st.judged_from >= 0 ? st.judged_from : std::nan(""));
+    if (closed_first) r["magnetisation"] = magnetisation_results(st, js.protocol);
     // How much still got through with the field on, window by window (the arrest test's window
     // and measure), up to the arrest or the end of the field period: for a valve that does not
     // jam, the figure a designer weighs (a creep of 5 % against a flow at 90 %).
     const double field_end = st.jammed ? arrest_called_at(st, js.protocol) : (h.empty() ? 0.0 : h.back().first);
-    const auto shares =
-        st.flux.window_shares(js.protocol.flow_time, field_end, js.protocol.arrest_window, st.base_rate);
+    const double judged_from = st.judged_from >= 0 ? st.judged_from : js.protocol.flow_time;
+    const auto shares = st.flux.window_shares(judged_from, field_end, js.protocol.arrest_window, st.base_rate);
     r["flux_share_with_field"] = {{"window_s", js.protocol.arrest_window},
                                   {"columns", {"window_end_s", "share_of_no_field_flux"}},
                                   {"rows", shares}};
@@ -325,6 +403,8 @@ nlohmann::json jam_seed_record(const JamOutcome& outcome) {
     return {{"outcome", r["outcome"]},
             {"time_to_arrest_s", r["time_to_arrest_s"]},
             {"flux_share_last_window", r.value("flux_share_last_window", nlohmann::json(nullptr))},
+            {"grains_passed_before_arrest", r["grains_passed_before_arrest"]},
+            {"flux_share_with_field", r.value("flux_share_with_field", nlohmann::json(nullptr))},
             {"stops_flow", outcome.stops_flow},
             {"hold", r.value("hold", nlohmann::json(nullptr))},
             {"closed_flow_share", r.value("closed_flow_share", nlohmann::json(nullptr))},
@@ -389,7 +469,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         try {
             return build_scene(engine, build);
         } catch (const SceneError& e) {
-            throw as_jam_key(e);
+            throw as_jam_key(e, js.protocol);
         }
     }();
     // The coupled flow replaces the engine scene's prescribed one before anything reads it.
@@ -402,7 +482,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     try {
         choose_timestep(scene);
     } catch (const SceneError& e) {
-        throw as_jam_key(e);
+        throw as_jam_key(e, js.protocol);
     }
     if (resuming) restore_state(options.resume_checkpoint, scene.system);  // the list and step from the checkpoint win
     System& s = scene.system;
@@ -435,7 +515,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     std::optional<BatchOutlet> outlet;
     if (js.batch_supply) outlet.emplace(s, js.valve.downstream_length, js.valve.throat_end_z(), js.largest_diameter);
     double next_report = 0.2e-3;  // the first line once a full 0.1 ms window of flux exists
-    auto observer = [&](const System& sys, std::size_t, long) {
+    auto observer = [&](const System& sys, std::size_t stage, long) {
         st.flux.observe(sys);
         // Counted first, then taken out: the outlet is past the throat, so no crossing is lost.
         // (`s` is `sys`, writable: the runner calls the observer between steps.)
@@ -446,8 +526,10 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
             if (st.upstream_at_start < 0) st.upstream_at_start = st.upstream_now;
         }
         // From the arrest on the supply rises to the hold pressure (protocol/hold_pressure and its
-        // ramp; the same pressure by default).
-        const double supply = st.jammed
+        // ramp; the same pressure by default). Closed first the supply is cut while the grains are
+        // magnetised: the fluid is at rest.
+        const double supply = jam_phase(p, stage) == JamPhase::magnetise ? 0.0
+                              : st.jammed
                                   ? p.supply_after_arrest(sys.time - arrest_called_at(st, p), js.flow.supply_pressure)
                                   : js.flow.supply_pressure;
         if (coupled)
@@ -473,24 +555,41 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
     };
     run.stage_finished = [&](const System& sys, std::size_t stage) {
         const double t = sys.time;
-        if (stage == 0) return false;
-        if (stage == 1) {
-            if (st.base_rate == 0) {
-                // The no-field flux over the second half of the flow period: the reference.
-                st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
-                st.passed_at_switch_on = st.flux.passed();
+        const JamPhase phase = jam_phase(p, stage);
+        if (phase == JamPhase::reference) return false;
+        if (st.base_rate == 0 && !st.undetermined) {
+            // The no-field flux over the second half of the flow period: the reference.
+            st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
+            if (options.progress)
+                if (const std::string w = sparse_window_warning(st.base_rate, p); !w.empty())
+                    std::cerr << "[jam] warning: " << w << "\n";
+            st.undetermined = !(st.base_rate > 0);  // nothing crossed: a clog, or too slow a flow to tell
+            st.reference_expected = static_cast<double>(sys.particles.size()) /
+                                    (js.valve.upstream_length + js.valve.downstream_length) * js.flow.bore_speed * 0.5 *
+                                    p.flow_time;
+        }
+        if (st.undetermined) return true;
+        if (phase == JamPhase::magnetise) {
+            st.settled = magnetised_structure_settled(st, sys, p);
+            if (st.settled) {
+                st.magnetise_end = t;
                 if (options.progress)
-                    if (const std::string w = sparse_window_warning(st.base_rate, p); !w.empty())
-                        std::cerr << "[jam] warning: " << w << "\n";
-                if (!(st.base_rate > 0)) {  // nothing to compare an arrest with
-                    st.undetermined = true;
-                    return true;
-                }
+                    std::cerr << "[jam] magnetised structure settled after "
+                              << format_number((t - p.flow_time) * 1e3, 3) << " ms at rest; pressure on\n";
             }
-            if (t - p.flow_time < p.arrest_window) return false;
+            return st.settled;
+        }
+        if (phase == JamPhase::judged) {
+            if (st.judged_from < 0) {
+                if (p.order == JamOrder::closed_first && st.magnetise_end < 0)
+                    st.magnetise_end = p.flow_time + p.magnetise_time;
+                st.judged_from = p.order == JamOrder::closed_first ? st.magnetise_end : p.flow_time;
+                st.passed_at_switch_on = st.flux.passed();
+            }
+            if (t - st.judged_from < p.arrest_window) return false;
             if (st.flux.rate(p.arrest_window) < p.arrest_fraction * st.base_rate) {
                 st.jammed = true;
-                st.arrest_time = t - p.arrest_window - p.flow_time;  // the low-flux window's start
+                st.arrest_time = t - p.arrest_window - st.judged_from;  // the low-flux window's start
                 st.passed_at_arrest = st.flux.passed();
                 st.upstream_at_arrest = st.upstream_now;
                 // The field stays on for the hold (protocol/hold_time; 0 by default), then goes off.
@@ -500,11 +599,11 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
             }
             // Or a steady flow that has not arrested: no jam, without waiting for max_time.
             st.steady =
-                steady_flow(st.flux, st.flow_history, p.flow_time, {p.steady_window, p.steady_tolerance}).steady;
+                steady_flow(st.flux, st.flow_history, st.judged_from, {p.steady_window, p.steady_tolerance}).steady;
             return st.steady;
         }
         // Release: the field is off; has the flux come back?
-        if (!st.jammed || st.undetermined) return true;
+        if (!st.jammed) return true;
         if (t - st.release_start < p.arrest_window) return false;
         if (st.flux.rate(p.arrest_window) > p.release_fraction * st.base_rate) {
             st.released = true;

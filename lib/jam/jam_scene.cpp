@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -20,7 +21,7 @@
 
 namespace mrjam {
 
-std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper"}; }
+std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper", "continuum"}; }
 
 namespace {
 
@@ -43,13 +44,87 @@ struct TierSettings {
     long long flow_lookup_interval;  // steps between carrier-flow lookups at the grains
 };
 // The quick tier holds the magnetic forces 4 steps: 1.5 times faster on the 44 um cases with the
-// same outcomes over three seeds each (docs/jam.md, "Held magnetic forces"). It holds the
+// same outcomes over three seeds each (docs/notes/jam_measurements.md, "Held magnetic forces"). It holds the
 // carrier-flow lookups 4 steps too: 8 % faster on the 10 um mix, the same outcomes on the 44 um
-// cases over three seeds (docs/jam.md, "Held carrier-flow lookups").
+// cases over three seeds (docs/notes/jam_measurements.md, "Held carrier-flow lookups").
 TierSettings tier_settings(const std::string& tier) {
     if (tier == "quick") return {3.0, 1.0e-3, 0.5e-3, 4, 4};
     if (tier == "paper") return {0.0, 2.0e-3, 1.0e-3, 1, 1};  // the full bore
     return {6.0, 1.5e-3, 0.75e-3, 1, 1};
+}
+
+// A number in SI or a string with units, in a table the scene reader passes through raw.
+double table_quantity(const json& value, const units::Dimension& dimension, const std::string& at) {
+    if (value.is_number()) return value.get<double>();
+    if (!value.is_string()) throw SceneError(at, "expected a number in SI or a string with units");
+    try {
+        return units::parse_as(value.get<std::string>(), dimension);
+    } catch (const std::exception& e) {
+        throw SceneError(at, e.what());
+    }
+}
+
+// The block `continuum`: the fluid's yield stress against the field, as pairs
+// [[B, tau_y], ...] (numbers in SI or strings with units) or the report of a `mrjam shear` run
+// (shear_report, relative to the scene). Required by the continuum tier.
+void read_continuum(SceneNode& root, const std::string& tier, const std::string& base_directory, JamScene& out) {
+    std::optional<SceneNode> block = root.optional_object("continuum");
+    if (!block) {
+        if (tier == "continuum")
+            throw SceneError("/continuum",
+                             "the continuum tier needs the fluid's yield stress: give "
+                             "continuum/yield_stress [[\"100 mT\", \"5 kPa\"], ...] or "
+                             "continuum/shear_report (a mrjam shear report of this fluid)");
+        return;
+    }
+    SceneNode& c = *block;
+    out.continuum_samples = static_cast<int>(c.integer("samples", out.continuum_samples, 2, 1000000));
+    const bool has_table = c.has("yield_stress"), has_report = c.has("shear_report");
+    if (has_table == has_report)
+        c.fail(
+            has_table ? "shear_report" : "yield_stress",
+            "give the yield stress either as a table (yield_stress) or as a shear report (shear_report), one of them");
+    if (has_report) {
+        std::filesystem::path path(c.text("shear_report", std::nullopt));
+        if (path.is_relative() && !base_directory.empty()) path = std::filesystem::path(base_directory) / path;
+        std::ifstream in(path);
+        if (!in) throw SceneError("/continuum/shear_report", "cannot read " + path.string());
+        const json report = json::parse(in, nullptr, false);
+        if (report.is_discarded()) throw SceneError("/continuum/shear_report", path.string() + " is not JSON");
+        out.yield_stress = yield_stress_table_from_shear_report(report, "/continuum/shear_report");
+        return;
+    }
+    const json& rows = c.raw("yield_stress");
+    if (!rows.is_array() || rows.empty())
+        throw SceneError("/continuum/yield_stress", "expected pairs [[B, tau_y], ...], e.g. [[\"100 mT\", \"5 kPa\"]]");
+    std::vector<YieldStressPoint> points;
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        const std::string at = "/continuum/yield_stress/" + std::to_string(k);
+        if (!rows[k].is_array() || rows[k].size() != 2) throw SceneError(at, "expected a pair [B, tau_y]");
+        points.push_back({table_quantity(rows[k][0], units::magnetic_flux_density, at + "/0"),
+                          table_quantity(rows[k][1], units::pressure, at + "/1"), "scene"});
+    }
+    out.yield_stress = YieldStressTable(std::move(points), "/continuum/yield_stress");
+}
+
+// protocol/order and, closed first, how long and by what criterion the grains are magnetised at rest.
+void read_protocol_order(SceneNode& protocol, JamProtocol& p) {
+    const std::string order = protocol.choice("order", {"closed_first", "open_first"}, "closed_first");
+    p.order = order == "closed_first" ? JamOrder::closed_first : JamOrder::open_first;
+    const bool closed = p.order == JamOrder::closed_first;
+    for (const char* key : {"magnetise_time", "settle_window", "settle_tolerance"})
+        if (!closed && protocol.has(key))
+            protocol.fail(key,
+                          "applies to protocol/order \"closed_first\" only (the magnet switched on at rest): drop it");
+    if (!closed) return;
+    p.magnetise_time = protocol.quantity("magnetise_time", units::time, p.magnetise_time, Bounds::positive());
+    p.settle_window = protocol.quantity("settle_window", units::time, p.settle_window, Bounds::positive());
+    p.settle_tolerance = protocol.number("settle_tolerance", p.settle_tolerance, Bounds::open(0.0, 1.0));
+    if (2 * p.settle_window > p.magnetise_time)
+        protocol.fail("settle_window", "two windows must fit in protocol/magnetise_time (" +
+                                           format_number(p.magnetise_time * 1e3) +
+                                           " ms) to compare one with the next: give at most " +
+                                           format_number(0.5 * p.magnetise_time * 1e3) + " ms");
 }
 
 }  // namespace
@@ -59,7 +134,13 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     out.tier = tier;
     if (!user.is_object()) throw SceneError("", "a jam scene is a JSON object");
     json scene = user;
-    for (const char* key : {"valve", "grains", "material", "fluid", "field", "protocol", "model", "output"})
+    // Every block but the field has defaults; the field changes the answer most, so it is never
+    // assumed (a scene without a magnet writes {"type": "uniform", "flux_density": "0 mT"}).
+    if (!scene.contains("field"))
+        throw SceneError("/field",
+                         "required: the applied field, e.g. {\"type\": \"uniform\", \"flux_density\": "
+                         "\"230 mT\"}, a map from mrjam magnetics, or \"0 mT\" for none");
+    for (const char* key : {"valve", "grains", "material", "fluid", "protocol", "model", "output"})
         if (!scene.contains(key)) scene[key] = json::object();
     SceneNode root(scene, out.resolved, "");
     root.text("description", "");
@@ -85,7 +166,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double close_pairs_min_gap =
         model.has("close_pairs_min_gap") ? model.number("close_pairs_min_gap", std::nullopt, Bounds::closed(0.005, 0.5))
                                          : 0.0;
-    // Steps between carrier-flow lookups at the grains (held in between; docs/jam.md measures the cost).
+    // Steps between carrier-flow lookups at the grains (held in between; docs/notes/jam_measurements.md measures the
+    // cost).
     const long long flow_lookup_interval = model.integer("flow_lookup_interval", ts.flow_lookup_interval, 1, 100);
     // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
     // builds against pairs checked, speed only (docs/benchmarks.md measures it).
@@ -94,7 +176,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about
     // x = 0. A frictional one holds chains pressed against it like a real wall would, and that
     // friction alone arrested the quick 30x case and the 10 um mix that the full bore and the
-    // frictionless slab let flow (docs/jam.md, "The slab's faces"); so frictionless is the default.
+    // frictionless slab let flow (docs/notes/jam_measurements.md, "The slab's faces"); so frictionless is the default.
     const bool frictionless_slab =
         model.choice("slab_faces", {"frictionless", "frictional"}, "frictionless") == "frictionless";
     // How the grains are fed. `periodic`: grains leaving downstream re-enter upstream, a steady
@@ -209,7 +291,10 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const double viscosity = fluid.quantity("viscosity", units::viscosity, 0.16, Bounds::positive());
     // Positive: the no-field flux it drives is what an arrest is measured against.
     const double bore_speed = fluid.quantity("bore_speed", units::velocity, 0.273, Bounds::positive());
-    const std::string flow_model = fluid.choice("flow", {"prescribed", "pressure", "coupled"}, "prescribed");
+    // The experiment drove the fluid with a regulated supply pressure (105 kPa): pressure-driven by
+    // default. A slot has the prescribed profile only.
+    const std::string flow_model =
+        fluid.choice("flow", {"prescribed", "pressure", "coupled"}, v.is_slot() ? "prescribed" : "pressure");
     out.flow.coupled = flow_model == "coupled";
     out.flow.pressure_driven = flow_model != "prescribed";
     // The coupled flow solves its own profile (lib/jam/coupled_flow.hpp); the engine scene keeps
@@ -239,7 +324,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                    "\"converging\" or fluid/flow to \"coupled\", or drop it");
     // The coupled flow's slices have no inertia, so its jet must be given room: a jet shorter than
     // the taper piled the grains where it slowed (the 44 um 20x case stopped arresting, the 10 um
-    // one blew up; docs/jam.md). Unless the scene fixes the tube's length, the coupled flow
+    // one blew up; docs/notes/jam_measurements.md). Unless the scene fixes the tube's length, the coupled flow
     // lengthens it downstream until the taper's mirror fits.
     if (out.flow.coupled && !v.is_slot() && !downstream_given && !fluid.has("jet_length")) {
         const double needed = v.throat_end_z() + v.taper_length + 2.0 * out.flow.cell_length;
@@ -317,7 +402,8 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     out.slab_half_thickness = slab_diameters > 0 ? 0.5 * slab_diameters * out.largest_diameter : 0.0;
     const double hx = out.half_width();
     if (out.field_type == "uniform") {
-        const double b = field.quantity("flux_density", units::magnetic_flux_density, 0.230, Bounds::non_negative());
+        const double b =
+            field.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
         const Vec3 dir = field.vector("direction", units::dimensionless, Vec3{0, 1, 0});
         if (norm(dir) == 0) field.fail("direction", "must be a non-zero vector");
         const Vec3 b0 = dir * (b / norm(dir));
@@ -355,6 +441,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
 
     SceneNode protocol = root.object("protocol");
     JamProtocol& p = out.protocol;
+    read_protocol_order(protocol, p);
     p.flow_time = protocol.quantity("flow_time", units::time, p.flow_time, Bounds::positive());
     p.max_time = protocol.quantity("max_time", units::time, p.max_time, Bounds::positive());
     p.arrest_window = protocol.quantity("arrest_window", units::time, p.arrest_window, Bounds::positive());
@@ -395,7 +482,13 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     if (p.steady_window > 0.5 * p.max_time)
         protocol.fail("steady_window",
                       "two windows must fit in max_time: give at most half of it, or 0 to run to max_time");
+    if (p.order == JamOrder::closed_first && !out.flow.pressure_driven)
+        protocol.fail("order",
+                      "closed_first applies the supply pressure to a fluid at rest: it needs fluid/flow \"pressure\" "
+                      "or \"coupled\" (the prescribed flow has no pressure); or give \"open_first\"");
     protocol.finish();
+
+    read_continuum(root, tier, base_directory, out);
 
     SceneNode output = root.object("output");
     const std::string directory = output.text("directory", "out/jam");

@@ -9,16 +9,32 @@
 #include <algorithm>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "geometry/valve.hpp"
+#include "jam/bingham_plug.hpp"
 #include "magnetic/external_field.hpp"
 
 namespace mrjam {
 
+// The order of the experiment. Table 3.2 (section 3.4.1) was measured closed first: the magnet
+// switched on with the fluid at rest, then the supply pressure applied, then the magnet off.
+// Section 3.3's second experiment (and the source's simulation, section 3.4.4) flows first and
+// switches the magnet on in the moving fluid: Figure 3.8's time to arrest.
+enum class JamOrder { closed_first, open_first };
+
 struct JamProtocol {
-    double flow_time = 1e-3;        // s, flow with no field (the source: 1 ms)
-    double max_time = 3e-3;         // s, with the field, unless arrest comes first
+    JamOrder order = JamOrder::closed_first;
+    double flow_time = 1e-3;  // s, flow with no field: the no-field reference flux (its second half)
+    // closed_first: after the reference the supply is cut and the magnet switched on with the fluid at
+    // rest; the grains are magnetised until the structure settles (both the mean contact number and
+    // the grains' magnetic energy change by less than settle_tolerance from one settle_window to the
+    // next), or for magnetise_time at most; then the supply pressure is applied.
+    double magnetise_time = 1e-3;    // s, at most
+    double settle_window = 0.1e-3;   // s
+    double settle_tolerance = 0.02;  // relative change per window that counts as settled
+    double max_time = 3e-3;         // s, judged period (pressure on, or field on open first), unless arrest comes first
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long
     double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux
     double hold_time = 0;      // s, field kept on after an arrest before the release test (does the jam hold, seal?)
@@ -30,6 +46,12 @@ struct JamProtocol {
     long observe_every = 50;         // steps between flux observations
     double steady_window = 0;        // s, "or steady flow" (jam/steady_flow.hpp); 0: run to max_time
     double steady_tolerance = 0.15;  // relative change from one window to the next that counts as steady
+
+    // The longest run before any hold and release: the reference, the magnetisation (closed first)
+    // and the judged period.
+    double longest_run_before_arrest() const {
+        return flow_time + (order == JamOrder::closed_first ? magnetise_time : 0.0) + max_time;
+    }
 
     // The supply pressure `since` seconds after the arrest was called, from the scene's `supply`.
     double supply_after_arrest(double since, double supply) const {
@@ -71,6 +93,10 @@ struct JamScene {
     double lone_grain_saturation_flux_density = 0;
     bool batch_supply = false;  // model/supply "batch": grains leaving downstream are removed, none enter
     std::string tier;
+    // The continuum tier's yield stress of this fluid against the field (the block `continuum`,
+    // from `mrjam shear`); required by that tier, optional (and unused) in the others.
+    std::optional<YieldStressTable> yield_stress;
+    int continuum_samples = 2000;  // Simpson intervals over the passage
 
     // A slab thinner than the bore cuts the valve with two plane faces; otherwise the full bore.
     bool is_slab() const { return slab_half_thickness > 0 && slab_half_thickness < valve.bore_radius(); }
@@ -78,6 +104,7 @@ struct JamScene {
     double half_width() const { return is_slab() ? slab_half_thickness : valve.bore_radius(); }
 };
 
+// The DEM tiers and "continuum" (a Bingham plug, lib/jam/continuum_tier.hpp).
 std::vector<std::string> jam_tier_names();
 // Throws SceneError (path + fix) for bad or impossible input. `base_directory` resolves a field
 // map's relative path.

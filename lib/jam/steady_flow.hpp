@@ -5,7 +5,7 @@
 // steady flow that has not arrested by then is taken as no jam, and the run stops early.
 //
 // What this costs is a rare late arch: the test stops a statistically steady flow, so an arrest
-// that would have come later by chance is missed (docs/jam.md measures it on the bundled cases).
+// that would have come later by chance is missed (docs/notes/jam_measurements.md measures it on the bundled cases).
 #include <vector>
 
 #include "jam/axial_resistance.hpp"
