@@ -105,6 +105,15 @@ magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const f
         throw SceneError("/magnetics/valve/constriction", from_list);
     set_design_key(valve, "/magnetics/valve", "constriction_diameter", diameter, from_list);
     set_design_key(mscene, "/magnetics", "state", "on", "the design solves the magnet's ON state; remove this key");
+    // The map the jam runs read is the applied field B0 = mu0 H0 the grains see before their own
+    // dipoles, which add the fluid's magnetisation: so the fluid is solved as air unless the design
+    // says otherwise (a mu_r = 10 fluid's B would count it twice; docs/jam.md, "The field the grains see").
+    // (A materials or fluid key that is not an object is left for the magnetics reader to refuse.)
+    if (!mscene.contains("materials") || mscene["materials"].is_object()) {
+        json& fluid = mscene["materials"]["fluid"];
+        if (fluid.is_null()) fluid = json::object();
+        if (fluid.is_object() && !fluid.contains("relative_permeability")) fluid["relative_permeability"] = 1.0;
+    }
     set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
                    "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
                    "key (set the design's output_directory instead)");

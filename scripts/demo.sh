@@ -4,9 +4,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 ./scripts/build.sh
-# The main job, end to end (a few minutes): for the 20x and 40x constrictions, the rectangular
-# bracket's field (gmsh + GetDP), its field map, the jam predictor in that field at 105 kPa,
-# and the open valve's flow rate; then which constriction is the widest that still jams.
+# The main job, end to end (a few minutes): for the 20x and 40x constrictions, the curved
+# bracket's applied field (gmsh + GetDP), its field map, the jam predictor in that field with
+# 105 kPa applied to the closed valve, and the open valve's flow rate; then which constriction is
+# the widest that still jams.
 ./build/mrjam design examples/design_quick.json --fidelity quick --report out/design_quick/report.json
 # The engine on its own: grains settling in a box, with ParaView snapshots.
 ./build/mrjam run examples/settle_column.json --report out/settle_column/report.json --quiet

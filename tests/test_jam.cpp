@@ -748,7 +748,7 @@ TEST_SUITE("cli") {
             }
         // The design examples' jam blocks, as `mrjam design` checks them before its first field solve:
         // with each constriction's valve and a field (a uniform one stands in for the map to come).
-        for (const char* name : {"design_quick", "design_rectangular", "design_insert"}) {
+        for (const char* name : {"design_quick", "design_curved", "design_rectangular", "design_insert"}) {
             const std::string dir = std::string(MRJAM_SOURCE_DIR) + "/examples";
             const json design = json::parse(slurp(dir + "/" + name + ".json"));
             for (const auto& constriction : design.at("constrictions"))

@@ -54,6 +54,17 @@ Result jam(const TempDir& dir, const std::string& name, const json& scene, const
                           " --fidelity quick --quiet " + extra);
 }
 
+// Resumes run NAME from the checkpoint it left in out_NAME and returns the resumed run's report.
+json resumed_report(const TempDir& dir, const std::string& name) {
+    const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
+    REQUIRE(fs::exists(ck));
+    const Result resumed =
+        mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+    CAPTURE(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    return json::parse(slurp(dir.file(name + "_resumed.json")));
+}
+
 // The results that must not depend on an interruption: everything but the wall-clock numbers.
 json comparable(json report) {
     report.erase("wall_time_s");
@@ -143,12 +154,7 @@ TEST_SUITE("cli") {
                 jam(dir, name, tiny_scene(dir.file("out_" + name), every), "--seeds " + std::to_string(c.seeds));
             REQUIRE(cut.exit_code == 0);
             const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
-            REQUIRE(fs::exists(ck));
-            const Result resumed = mrjam(
-                dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
-            CAPTURE(resumed.err);
-            REQUIRE(resumed.exit_code == 0);
-            const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
+            const json b = resumed_report(dir, name);
             CHECK(b["resumed_from"] == ck);
             // It continued, not restarted: fewer steps run than the whole protocol.
             if (c.seeds == 1)
@@ -222,15 +228,25 @@ TEST_SUITE("cli") {
             REQUIRE(every < end);
             const std::string name = "cut_" + phase;
             REQUIRE(jam(dir, name, tiny_scene(dir.file("out_" + name), every, true), "").exit_code == 0);
-            const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
-            REQUIRE(fs::exists(ck));
-            const Result resumed = mrjam(
-                dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
-            CAPTURE(resumed.err);
-            REQUIRE(resumed.exit_code == 0);
-            const json b = json::parse(slurp(dir.file(name + "_resumed.json")));
-            CHECK(comparable(b)["results"] == comparable(a)["results"]);
+            CHECK(comparable(resumed_report(dir, name))["results"] == comparable(a)["results"]);
         }
+    }
+
+    // A settle tolerance no structure meets: the magnetisation runs its full time, the pressure goes
+    // on at its end, and the report warns with the criterion's values.
+    TEST_CASE("jam: closed first, a structure that has not settled by magnetise_time is said so") {
+        TempDir dir;
+        json scene = tiny_scene(dir.file("out"), 0, true);
+        scene["protocol"]["settle_tolerance"] = 1e-12;
+        const Result r = jam(dir, "unsettled", scene, "");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json report = json::parse(slurp(dir.file("unsettled_report.json")));
+        const json& res = report["results"];
+        CHECK(res["magnetisation"]["settled"] == false);
+        CHECK(res["judged_from_s"].get<double>() == doctest::Approx(0.06e-3 + 0.03e-3).epsilon(1e-12));
+        CHECK(report["warnings"].dump().find("had not settled by protocol/magnetise_time (0.03 ms)") !=
+              std::string::npos);
     }
 
     // A run checkpointed half-way through the field period and resumed must end as the

@@ -118,7 +118,7 @@ std::string short_jet_warning(const JamScene& js) {
 
 // An error in the generated engine scene, named by the jam scene's key the user wrote: a packing
 // it cannot make is the feed's volume fraction, a stage with too many steps its protocol time
-// (the stages are flow, field_on, release; jam_engine_scene.cpp).
+// (the stages of jam_stages(): flow, then magnetise and pressure or field_on, then release).
 SceneError as_jam_key(const SceneError& e, const JamProtocol& p) {
     const std::string& path = e.path();
     if (path.starts_with("/grains/") && path.ends_with("/placement/volume_fraction"))
@@ -183,6 +183,20 @@ nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtoc
             {"duration_s", st.magnetise_end >= 0 ? nlohmann::json(st.magnetise_end - p.flow_time) : nullptr},
             {"last_window_change", last_change},
             {"history", {{"columns", {"time_s", "mean_coordination", "magnetic_energy_J"}}, {"rows", rows}}}};
+}
+
+// Closed first, a structure still changing when protocol/magnetise_time ran out met the pressure
+// unsettled: said with the criterion's values. Empty otherwise (settled, open first, or not yet there).
+std::string unsettled_warning(const JamProtocolState& st, const JamProtocol& p) {
+    const std::size_t n = st.settle_history.size();
+    if (p.order != JamOrder::closed_first || st.settled || st.magnetise_end < 0 || n < 2) return {};
+    const SettleSample &a = st.settle_history[n - 2], &b = st.settle_history[n - 1];
+    return "the magnetised structure had not settled by protocol/magnetise_time (" +
+           format_number(p.magnetise_time * 1e3) +
+           " ms): over its last settle window the mean contact number changed by " +
+           format_number(100 * relative_change(a.coordination, b.coordination), 2) + " % and the magnetic energy by " +
+           format_number(100 * relative_change(a.magnetic_energy, b.magnetic_energy), 2) + " %, against " +
+           format_number(100 * p.settle_tolerance) + " % (protocol/settle_tolerance); lengthen magnetise_time";
 }
 
 // The flux is counted at observations: a window (or the no-field reference, the flow period's
@@ -269,6 +283,7 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
     // the field switched on (open first).
     r["judged_from_s"] = number_or_null(st.judged_from >= 0 ? st.judged_from : std::nan(""));
     if (closed_first) r["magnetisation"] = magnetisation_results(st, js.protocol);
+    if (const std::string w = unsettled_warning(st, js.protocol); !w.empty()) report["warnings"].push_back(w);
     // How much still got through with the field on, window by window (the arrest test's window
     // and measure), up to the arrest or the end of the field period: for a valve that does not
     // jam, the figure a designer weighs (a creep of 5 % against a flow at 90 %).
