@@ -487,6 +487,9 @@ TEST_SUITE("cli") {
             "hold_pressure_prescribed",
             {{"fluid", {{"flow", "prescribed"}}}, {"protocol", {{"hold_time", "1 ms"}, {"hold_pressure", "405 kPa"}}}},
             "/protocol/hold_pressure");
+        refused("hold_below_supply",
+                {{"fluid", {{"flow", "pressure"}}}, {"protocol", {{"hold_time", "1 ms"}, {"hold_pressure", "50 kPa"}}}},
+                "/protocol/hold_pressure: is below fluid/supply_pressure (105 kPa)");
         refused("ramp_without_pressure",
                 {{"fluid", {{"flow", "pressure"}}},
                  {"protocol", {{"hold_time", "1 ms"}, {"hold_pressure_ramp", "0.5 ms"}}}},
@@ -732,6 +735,8 @@ TEST_SUITE("cli") {
         for (const char* mix : {"mix1", "mix2", "mix3", "mix4"})  // Table 3.2's matrix, in the curved field
             for (const char* constriction : {"20x", "30x", "40x"})
                 names.push_back(std::string("table32/") + mix + "_" + constriction);
+        for (const char* hold : {"hold_mix2_20x", "hold_mix2_30x", "hold_mix3_20x", "hold_mix3_30x"})
+            names.push_back(std::string("table32/") + hold);
         for (const std::string& name : names)
             for (const std::string& tier : jam_tier_names()) {
                 CAPTURE(name);

@@ -237,6 +237,7 @@ void write_jam_results(nlohmann::json& report, const JamProtocolState& st, const
         st.jammed ? nlohmann::json(st.passed_at_arrest - st.passed_at_switch_on) : nlohmann::json(nullptr);
     r["grains_passed_total"] = st.flux.passed();
     r["no_field_flux_grains_per_s"] = st.base_rate;
+    r["no_field_flux_measured_over"] = "the second half of the no-field flow that opens the run (protocol/flow_time)";
     r["released"] = st.jammed ? nlohmann::json(st.released) : nlohmann::json(nullptr);
     // Why the field period ended: an arrest, a steady flow (protocol/steady_window) or max_time.
     r["field_period_ended_by"] = st.jammed         ? "arrest"

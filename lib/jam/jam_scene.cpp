@@ -461,6 +461,11 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
                       "prescribed flow has no supply pressure");
     if (raised && !(p.hold_time > 0))
         protocol.fail("hold_pressure", "is the supply pressure during the hold: give protocol/hold_time too");
+    // The experiment raised the pressure on a jammed valve to see what it holds; a lower one asks nothing of it.
+    if (raised && p.hold_pressure < out.flow.supply_pressure)
+        protocol.fail("hold_pressure",
+                      "is below fluid/supply_pressure (" + format_number(out.flow.supply_pressure / 1e3) +
+                          " kPa): the hold tests what a jam holds above the supply; give at least that");
     const bool ramped = protocol.has("hold_pressure_ramp");
     p.hold_pressure_ramp = protocol.quantity("hold_pressure_ramp", units::time, 0.0, Bounds::non_negative());
     if (ramped && !raised)
