@@ -165,6 +165,71 @@ bool magnetised_structure_settled(JamProtocolState& st, const System& sys, const
            relative_change(a.magnetic_energy, b.magnetic_energy) < p.settle_tolerance;
 }
 
+// The no-field reference, taken once at the first observation after the flow period: its flux
+// over the period's second half, and whether none crossed (a clog, or too slow a flow to tell).
+void take_reference(JamProtocolState& st, const JamScene& js, const System& sys, bool progress) {
+    const JamProtocol& p = js.protocol;
+    st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
+    if (progress)
+        if (const std::string w = sparse_window_warning(st.base_rate, p); !w.empty())
+            std::cerr << "[jam] warning: " << w << "\n";
+    st.undetermined = !(st.base_rate > 0);
+    st.reference_expected = static_cast<double>(sys.particles.size()) /
+                            (js.valve.upstream_length + js.valve.downstream_length) * js.flow.bore_speed * 0.5 *
+                            p.flow_time;
+}
+
+// The judged period (pressure on, or field on): an arrest switches the field off after the hold;
+// a steady flow ends the period as no jam. True ends the stage.
+bool judge_arrest(JamProtocolState& st, const JamProtocol& p, SwitchedField& field, double t) {
+    if (st.judged_from < 0) {
+        if (p.order == JamOrder::closed_first && st.magnetise_end < 0)
+            st.magnetise_end = p.flow_time + p.magnetise_time;
+        st.judged_from = p.order == JamOrder::closed_first ? st.magnetise_end : p.flow_time;
+        st.passed_at_switch_on = st.flux.passed();
+    }
+    if (t - st.judged_from < p.arrest_window) return false;
+    if (st.flux.rate(p.arrest_window) < p.arrest_fraction * st.base_rate) {
+        st.jammed = true;
+        st.arrest_time = t - p.arrest_window - st.judged_from;  // the low-flux window's start
+        st.passed_at_arrest = st.flux.passed();
+        st.upstream_at_arrest = st.upstream_now;
+        // The field stays on for the hold (protocol/hold_time; 0 by default), then goes off.
+        field.switch_off_at(t + p.hold_time);
+        st.release_start = t + p.hold_time;
+        return true;
+    }
+    // Or a steady flow that has not arrested: no jam, without waiting for max_time.
+    st.steady = steady_flow(st.flux, st.flow_history, st.judged_from, {p.steady_window, p.steady_tolerance}).steady;
+    return st.steady;
+}
+
+// The protocol's decision at an observation in `phase`: true ends the engine's current stage.
+bool protocol_stage_finished(JamProtocolState& st, const JamScene& js, SwitchedField& field, const System& sys,
+                             JamPhase phase, bool progress) {
+    const JamProtocol& p = js.protocol;
+    const double t = sys.time;
+    if (phase == JamPhase::reference) return false;
+    if (st.base_rate == 0 && !st.undetermined) take_reference(st, js, sys, progress);
+    if (st.undetermined) return true;
+    if (phase == JamPhase::magnetise) {
+        st.settled = magnetised_structure_settled(st, sys, p);
+        if (st.settled) {
+            st.magnetise_end = t;
+            if (progress)
+                std::cerr << "[jam] magnetised structure settled after " << format_number((t - p.flow_time) * 1e3, 3)
+                          << " ms at rest; pressure on\n";
+        }
+        return st.settled;
+    }
+    if (phase == JamPhase::judged) return judge_arrest(st, p, field, t);
+    // Release: the field is off; has the flux come back?
+    if (!st.jammed) return true;
+    if (t - st.release_start < p.arrest_window) return false;
+    st.released = st.flux.rate(p.arrest_window) > p.release_fraction * st.base_rate;
+    return st.released;
+}
+
 // The report's account of the magnetisation at rest (closed first), with the criterion's values.
 nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtocol& p) {
     nlohmann::json rows = nlohmann::json::array();
@@ -570,62 +635,7 @@ JamOutcome run_jam(const JamScene& js, long long seed, const JamRunOptions& opti
         }
     };
     run.stage_finished = [&](const System& sys, std::size_t stage) {
-        const double t = sys.time;
-        const JamPhase phase = jam_phase(p, stage);
-        if (phase == JamPhase::reference) return false;
-        if (st.base_rate == 0 && !st.undetermined) {
-            // The no-field flux over the second half of the flow period: the reference.
-            st.base_rate = st.flux.rate_between(0.5 * p.flow_time, p.flow_time);
-            if (options.progress)
-                if (const std::string w = sparse_window_warning(st.base_rate, p); !w.empty())
-                    std::cerr << "[jam] warning: " << w << "\n";
-            st.undetermined = !(st.base_rate > 0);  // nothing crossed: a clog, or too slow a flow to tell
-            st.reference_expected = static_cast<double>(sys.particles.size()) /
-                                    (js.valve.upstream_length + js.valve.downstream_length) * js.flow.bore_speed * 0.5 *
-                                    p.flow_time;
-        }
-        if (st.undetermined) return true;
-        if (phase == JamPhase::magnetise) {
-            st.settled = magnetised_structure_settled(st, sys, p);
-            if (st.settled) {
-                st.magnetise_end = t;
-                if (options.progress)
-                    std::cerr << "[jam] magnetised structure settled after "
-                              << format_number((t - p.flow_time) * 1e3, 3) << " ms at rest; pressure on\n";
-            }
-            return st.settled;
-        }
-        if (phase == JamPhase::judged) {
-            if (st.judged_from < 0) {
-                if (p.order == JamOrder::closed_first && st.magnetise_end < 0)
-                    st.magnetise_end = p.flow_time + p.magnetise_time;
-                st.judged_from = p.order == JamOrder::closed_first ? st.magnetise_end : p.flow_time;
-                st.passed_at_switch_on = st.flux.passed();
-            }
-            if (t - st.judged_from < p.arrest_window) return false;
-            if (st.flux.rate(p.arrest_window) < p.arrest_fraction * st.base_rate) {
-                st.jammed = true;
-                st.arrest_time = t - p.arrest_window - st.judged_from;  // the low-flux window's start
-                st.passed_at_arrest = st.flux.passed();
-                st.upstream_at_arrest = st.upstream_now;
-                // The field stays on for the hold (protocol/hold_time; 0 by default), then goes off.
-                field->switch_off_at(t + p.hold_time);
-                st.release_start = t + p.hold_time;
-                return true;
-            }
-            // Or a steady flow that has not arrested: no jam, without waiting for max_time.
-            st.steady =
-                steady_flow(st.flux, st.flow_history, st.judged_from, {p.steady_window, p.steady_tolerance}).steady;
-            return st.steady;
-        }
-        // Release: the field is off; has the flux come back?
-        if (!st.jammed) return true;
-        if (t - st.release_start < p.arrest_window) return false;
-        if (st.flux.rate(p.arrest_window) > p.release_fraction * st.base_rate) {
-            st.released = true;
-            return true;
-        }
-        return false;
+        return protocol_stage_finished(st, js, *field, sys, jam_phase(p, stage), options.progress);
     };
     std::string picture_error;
     auto look_at_clusters = [&](const System& sys) {
