@@ -38,6 +38,7 @@
 #include "integrator.hpp"
 #include "magnetic/external_field.hpp"
 #include "magnetic/magnetic_model.hpp"
+#include "observers.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "test_support.hpp"
@@ -203,6 +204,36 @@ TEST_SUITE("physics") {
     // field is 2 m / (4 pi (2R)^3) = m / (16 pi R^3) along the moment, so m = C H0 + beta m / 4 and
     // m = C H0 / (1 - beta/4); side by side it is -m / (32 pi R^3), so m = C H0 / (1 + beta/8). The
     // force goes as m^2: the converged over fixed-dipole ratio is 1/(1 - beta/4)^2 or 1/(1 + beta/8)^2.
+    // The settle criterion's magnetic energy, -1/2 sum m . B0 (lib/observers.hpp): a lone sphere's is
+    // -1/2 C B0^2 / mu0; two touching spheres' converged moments are the lone one's over (1 - beta/4) in
+    // line and over (1 + beta/8) side by side (the closed form below), so their energies are too: a
+    // chain lowers it, a side-by-side pair raises it.
+    TEST_CASE("magnetic: the induced dipoles' energy in the applied field, lone and in touching pairs") {
+        const double R = 1e-3, b0 = 0.01, mu_r = 1000.0;
+        const double beta = beta_of(mu_r), C = induced_coefficient(R, mu_r);
+        const double lone = -0.5 * C * b0 * b0 / kMu0;
+        auto energy = [&](const std::vector<Vec3>& centres) {
+            Rig rig(Vec3{0, 0, b0}, MutualPolicy::converged);
+            rig.model.settings.tolerance = 1e-12;
+            rig.model.settings.max_iterations = 1000;
+            for (const Vec3& x : centres) rig.add(x, R, mu_r);
+            rig.evaluate();
+            System s;
+            s.particles = rig.p;
+            s.magnetic.enabled = true;
+            s.magnetic.field = rig.model.field;
+            return induced_magnetic_energy(s);
+        };
+        // A few roundings and the iteration's 1e-12 separate the engine's sums from these products.
+        CHECK(energy({{0, 0, 0}}) == rel(lone).epsilon(1e-12));
+        CHECK(energy({{0, 0, 0}, {0, 0, 2 * R}}) == rel(2 * lone / (1 - beta / 4)).epsilon(1e-9));
+        CHECK(energy({{0, 0, 0}, {2 * R, 0, 0}}) == rel(2 * lone / (1 + beta / 8)).epsilon(1e-9));
+        // With the magnet off there is none.
+        System off;
+        off.particles.add({0, 0, 0}, R, 7800.0, 0);
+        CHECK(induced_magnetic_energy(off) == 0.0);
+    }
+
     TEST_CASE("magnetic: two touching spheres, converged mutual dipoles against the closed form") {
         const double R = 1e-3, b0 = 0.01;  // 1 mm grains in 10 mT
         const double h0 = b0 / kMu0;
