@@ -315,10 +315,4 @@ TEST_SUITE("unit") {
         calibration["mode"] = "shear-calibrate";
         CHECK(error_path([&] { yield_stress_table_from_shear_report(calibration, "/r"); }) == "/r");
     }
-
-    TEST_CASE("bingham plug: the axial field of an applied field is |B| on the axis") {
-        auto f = axial_flux_density(
-            std::make_shared<UniformField>(Vec3{0, -0.3, 0.4}, 0.0, 0.0, std::numeric_limits<double>::infinity()));
-        CHECK(f(1e-3) == rel(0.5));
-    }
 }  // TEST_SUITE

@@ -270,8 +270,4 @@ nlohmann::json BinghamPlugEstimate::to_json() const {
             {"samples", samples}};
 }
 
-std::function<double(double z)> axial_flux_density(std::shared_ptr<const ExternalField> field, double time) {
-    return [field = std::move(field), time](double z) { return norm(field->flux_density(Vec3{0, 0, z}, time)); };
-}
-
 }  // namespace mrjam

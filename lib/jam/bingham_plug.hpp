@@ -35,13 +35,11 @@
 // with them the error falls as samples^-2 (a kink costs O(h^2) of the panel holding it). A few thousand samples over
 // the 8 mm valve make either far below the table's own uncertainty.
 #include <functional>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "geometry/valve.hpp"
-#include "magnetic/external_field.hpp"
 
 namespace mrjam {
 
@@ -114,8 +112,5 @@ BinghamPlugEstimate bingham_plug_hold(const ValveGeometry& valve,
 // Hydraulic diameter of the passage at z (4 A / P): 2 passage_radius(z) for the circular
 // orifice. At the exit z = throat_end_z() it is the throat's (the left limit), as passage_radius.
 double passage_hydraulic_diameter(const ValveGeometry& valve, double z);
-
-// |B| on the axis (x = y = 0) of a field at `time`, for bingham_plug_hold; shares the field.
-std::function<double(double z)> axial_flux_density(std::shared_ptr<const ExternalField> field, double time = 0.0);
 
 }  // namespace mrjam

@@ -28,7 +28,7 @@ struct SettleSample {
 struct JamProtocolState {
     ThroatFlux flux{0.0};
     double base_rate = 0;       // the no-field flux (second half of the flow period), grains/s
-    double arrest_time = -1;    // from field-on to the start of the low-flux window, s
+    double arrest_time = -1;    // from judged_from to the start of the low-flux window, s
     double release_start = -1;  // when the field went off after the arrest, s
     // When the judged period began (s): the pressure applied (closed first) or the field switched
     // on (open first); -1 before. Time to arrest and grains passed count from here.
@@ -38,6 +38,8 @@ struct JamProtocolState {
     std::vector<SettleSample> settle_history;
     bool settled = false;
     double magnetise_end = -1;
+    // Grains passed when the judged period began (named for field-on, open first; the checkpoint
+    // keeps the key) and at the arrest.
     long passed_at_switch_on = 0, passed_at_arrest = 0;
     bool jammed = false, released = false, steady = false;
     bool undetermined = false;  // no grain crossed during the no-field flow: nothing to compare with

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "core/format.hpp"
 #include "fluid/valve_flow.hpp"
@@ -152,17 +153,25 @@ double relative_change(double a, double b) {
     return scale > 0 ? std::abs(b - a) / scale : 0.0;
 }
 
+// The relative change of the mean contact number and of the magnetic energy over the last settle
+// window; none before two checks.
+std::optional<std::pair<double, double>> last_settle_change(const JamProtocolState& st) {
+    const std::size_t n = st.settle_history.size();
+    if (n < 2) return std::nullopt;
+    const SettleSample &a = st.settle_history[n - 2], &b = st.settle_history[n - 1];
+    return std::pair{relative_change(a.coordination, b.coordination),
+                     relative_change(a.magnetic_energy, b.magnetic_energy)};
+}
+
 // Closed first: a settle check every protocol/settle_window from the start of the magnetisation.
 // Settled once both the mean contact number and the magnetic energy changed by less than
 // settle_tolerance over the last window, after at least two windows.
 bool magnetised_structure_settled(JamProtocolState& st, const System& sys, const JamProtocol& p) {
     if (!st.settle_history.empty() && sys.time < st.settle_history.back().time + p.settle_window) return false;
     st.settle_history.push_back({sys.time, mean_coordination(sys), induced_magnetic_energy(sys)});
-    const std::size_t n = st.settle_history.size();
-    if (n < 3) return false;
-    const SettleSample &a = st.settle_history[n - 2], &b = st.settle_history[n - 1];
-    return relative_change(a.coordination, b.coordination) < p.settle_tolerance &&
-           relative_change(a.magnetic_energy, b.magnetic_energy) < p.settle_tolerance;
+    if (st.settle_history.size() < 3) return false;
+    const auto change = last_settle_change(st);
+    return change->first < p.settle_tolerance && change->second < p.settle_tolerance;
 }
 
 // The no-field reference, taken once at the first observation after the flow period: its flux
@@ -234,13 +243,9 @@ bool protocol_stage_finished(JamProtocolState& st, const JamScene& js, SwitchedF
 nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtocol& p) {
     nlohmann::json rows = nlohmann::json::array();
     for (const SettleSample& x : st.settle_history) rows.push_back({x.time, x.coordination, x.magnetic_energy});
-    const std::size_t n = st.settle_history.size();
     nlohmann::json last_change = nullptr;
-    if (n >= 2)
-        last_change = {{"coordination",
-                        relative_change(st.settle_history[n - 2].coordination, st.settle_history[n - 1].coordination)},
-                       {"magnetic_energy", relative_change(st.settle_history[n - 2].magnetic_energy,
-                                                           st.settle_history[n - 1].magnetic_energy)}};
+    if (const auto change = last_settle_change(st))
+        last_change = {{"coordination", change->first}, {"magnetic_energy", change->second}};
     return {{"criterion",
              "mean contact number and magnetic energy (-1/2 sum m.B0) each change by less than "
              "protocol/settle_tolerance over one protocol/settle_window, after at least two windows"},
@@ -253,15 +258,14 @@ nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtoc
 // Closed first, a structure still changing when protocol/magnetise_time ran out met the pressure
 // unsettled: said with the criterion's values. Empty otherwise (settled, open first, or not yet there).
 std::string unsettled_warning(const JamProtocolState& st, const JamProtocol& p) {
-    const std::size_t n = st.settle_history.size();
-    if (p.order != JamOrder::closed_first || st.settled || st.magnetise_end < 0 || n < 2) return {};
-    const SettleSample &a = st.settle_history[n - 2], &b = st.settle_history[n - 1];
+    const auto change = last_settle_change(st);
+    if (p.order != JamOrder::closed_first || st.settled || st.magnetise_end < 0 || !change) return {};
     return "the magnetised structure had not settled by protocol/magnetise_time (" +
            format_number(p.magnetise_time * 1e3) +
            " ms): over its last settle window the mean contact number changed by " +
-           format_number(100 * relative_change(a.coordination, b.coordination), 2) + " % and the magnetic energy by " +
-           format_number(100 * relative_change(a.magnetic_energy, b.magnetic_energy), 2) + " %, against " +
-           format_number(100 * p.settle_tolerance) + " % (protocol/settle_tolerance); lengthen magnetise_time";
+           format_number(100 * change->first, 2) + " % and the magnetic energy by " +
+           format_number(100 * change->second, 2) + " %, against " + format_number(100 * p.settle_tolerance) +
+           " % (protocol/settle_tolerance); lengthen magnetise_time";
 }
 
 // The flux is counted at observations: a window (or the no-field reference, the flow period's
