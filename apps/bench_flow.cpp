@@ -14,6 +14,7 @@
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
 #include "run/runner.hpp"
+#include "terms/drag_term.hpp"
 
 namespace mrjam::cli {
 
@@ -94,7 +95,7 @@ void add_flow_bench_command(CLI::App& bench, int& exit_status) {
         const CoupledFlow coupled(v, c);
         // Grains at the sample points, moving with the clear flow: one update per pass.
         System s;
-        s.physics.viscosity = c.viscosity;
+        s.terms.add(std::make_unique<DragTerm>(c.viscosity, 1));
         for (const Vec3& p : points) {
             s.particles.position.push_back(p);
             s.particles.radius.push_back(19e-6);

@@ -199,55 +199,6 @@ template <RollingModel Rolling, CohesionModel Cohesion>
     }
 }
 
-// What the drag pass does with the carrier flow this step (PhysicsSettings::flow_lookup_interval).
-enum class FlowLookup { fresh, fresh_and_hold, held };
-
-FlowLookup flow_lookup_this_step(const System& s) {
-    if (!s.physics.drag || s.physics.flow_lookup_interval <= 1) return FlowLookup::fresh;
-    const HeldFlow& h = s.held_flow;
-    if (h.at.size() == s.particles.size() && h.age < s.physics.flow_lookup_interval) return FlowLookup::held;
-    return FlowLookup::fresh_and_hold;
-}
-
-// Single-grain terms: drag against the carrier flow, gravity with buoyancy.
-void body_forces(System& s, FlowLookup lookup, Vec3* f, std::size_t begin, std::size_t end) {
-    const Particles& p = s.particles;
-    const PhysicsSettings& ph = s.physics;
-    FlowField::Drag* held = s.held_flow.at.data();
-    for (std::size_t i = begin; i < end; ++i) {
-        if (ph.drag) {
-            // Stokes drag, eq. 2.3: F = -6 pi mu R (v - v_f), times the flow's hindered-drag factor.
-            const FlowField::Drag fluid = lookup == FlowLookup::held ? held[i] : s.flow->drag_at(p.position[i], s.time);
-            if (lookup == FlowLookup::fresh_and_hold) held[i] = fluid;
-            f[i] -= (p.velocity[i] - fluid.velocity) * (6.0 * M_PI * ph.viscosity * p.radius[i] * fluid.factor);
-        }
-        if (ph.gravity) {
-            const double volume = 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];
-            f[i] += ph.gravity_acceleration * (p.mass[i] - ph.fluid_density * volume);
-        }
-    }
-}
-
-// f_i = -c (v_i - v_j) on touching grain pairs (the list's touching flags were just set by the
-// contact pass). Serial: it is off by default and, when on, cheap next to the contact law.
-void pair_damping_forces(System& s) {
-    Particles& p = s.particles;
-    const NeighborList& list = s.contacts;
-    const double c = s.physics.pair_damping;
-    for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
-        for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-            if (!list.touching[k]) continue;
-            const std::uint32_t j = list.partners[k];
-            if (p.raft[i] >= 0 && p.raft[j] >= 0) continue;
-            const Vec3 f = (p.velocity[i] - p.velocity[j] + list.image_velocity(list.image[k])) * (-c);
-            p.force[i] += f;
-            p.force[j] -= f;
-            if (p.raft[i] >= 0) s.rafts[p.raft[i]].force += f;
-            if (p.raft[j] >= 0) s.rafts[p.raft[j]].force -= f;
-        }
-    }
-}
-
 template <RollingModel Rolling, CohesionModel Cohesion>
 void compute_all(System& s, bool zero_first) {
     Particles& p = s.particles;
@@ -260,11 +211,10 @@ void compute_all(System& s, bool zero_first) {
     b.raft_force.assign(nthreads, std::vector<RaftSum>(s.rafts.size()));
     std::vector<std::vector<Vec3>> wall_force(nthreads, std::vector<Vec3>(s.walls.size()));
     for (auto& w : s.walls) w.history.resize(n);
-    const FlowLookup lookup = flow_lookup_this_step(s);
-    if (lookup == FlowLookup::fresh_and_hold)
-        s.held_flow.at.resize(n);
-    else if (lookup == FlowLookup::fresh)
-        s.held_flow.at.clear();
+    // The per-grain terms (drag, gravity) ride on the contact pass's threads, each over the
+    // thread's own grains after its contacts: no pass over memory of their own.
+    const std::vector<ForceTerm*>& per_grain = s.terms.per_grain_terms();
+    for (ForceTerm* term : per_grain) term->begin_pass(s);
 
 #pragma omp parallel num_threads(nthreads)
     {
@@ -291,19 +241,12 @@ void compute_all(System& s, bool zero_first) {
             wall_contacts<Rolling, Cohesion>(s, f, t, stats, wall_force[tid], b.raft_force[tid], begin, end);
             b.stats[tid] = stats;
         }
-        if (s.physics.drag || s.physics.gravity) body_forces(s, lookup, f, begin, end);
+        for (ForceTerm* term : per_grain) term->add_per_grain(s, f, begin, end);
 #pragma omp barrier
         b.force.reduce_into(p.force, begin, end);
         b.torque.reduce_into(p.torque, begin, end);
     }
-
-    if (lookup == FlowLookup::held) {
-        ++s.held_flow.age;
-        ++s.held_flow.held_steps;
-    } else if (lookup == FlowLookup::fresh_and_hold) {
-        s.held_flow.age = 1;
-    }
-    if (s.magnetic.enabled) add_magnetic_forces(s.magnetic, p, s.time, nthreads);
+    for (ForceTerm* term : per_grain) term->end_pass();
 
     s.contact_stats = ContactStats{};
     for (const auto& st : b.stats) merge_stats(s.contact_stats, st);
@@ -315,7 +258,8 @@ void compute_all(System& s, bool zero_first) {
         s.rafts[r].force = Vec3{};
         for (int tid = 0; tid < nthreads; ++tid) s.rafts[r].force += b.raft_force[tid][r].force;
     }
-    if (s.physics.pair_damping > 0) pair_damping_forces(s);
+    // The whole-system terms (magnetic dipoles, pair damping), in the list's order.
+    for (ForceTerm* term : s.terms.whole_system_terms()) term->add(s);
 }
 
 template <RollingModel Rolling>

@@ -30,11 +30,7 @@ std::size_t remove_grains(System& s, const std::vector<std::int64_t>& index, std
         w.near.valid = false;  // every grain is tested until the next neighbour rebuild
     }
     s.contacts.remove_grains(index, kept);
-    s.magnetic.pairs.remove_grains(index, kept);
-    compact_by_index(s.magnetic.neighbour_field, index, kept);
-    if (!s.magnetic.held_force.empty()) compact_by_index(s.magnetic.held_force, index, kept);
-    if (!s.magnetic.held_torque.empty()) compact_by_index(s.magnetic.held_torque, index, kept);
-    if (!s.held_flow.at.empty()) compact_by_index(s.held_flow.at, index, kept);
+    for (auto& term : s.terms) term->grains_removed(s, index, kept);
     return n - kept;
 }
 

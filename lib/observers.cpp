@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "forces.hpp"
+#include "terms/gravity_term.hpp"
 
 namespace mrjam {
 
@@ -12,12 +13,8 @@ EnergyBreakdown energy(const System& s) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         e.translational += 0.5 * p.mass[i] * norm2(p.velocity[i]);
         e.rotational += 0.5 * p.inertia[i] * norm2(p.angular_velocity[i]);
-        if (s.physics.gravity) {
-            const double volume = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
-            e.gravitational -=
-                (p.mass[i] - s.physics.fluid_density * volume) * dot(s.physics.gravity_acceleration, p.position[i]);
-        }
     }
+    if (const GravityTerm* g = s.terms.find<GravityTerm>()) e.gravitational = g->potential_energy(s);
     if (s.physics.contact) e.elastic = contact_elastic_energy(s);
     return e;
 }
@@ -54,28 +51,7 @@ nlohmann::json state_summary(const System& s) {
     j["max_overlap_ratio"] = s.contact_stats.max_overlap_ratio;
     j["neighbour_builds"] = s.contacts.builds();
     j["neighbour_pairs"] = s.contacts.pair_count();
-    if (s.physics.drag)
-        j["carrier_flow"] = {{"lookup_interval_steps", s.physics.flow_lookup_interval},
-                             {"steps_with_held_lookups", s.held_flow.held_steps}};
-    if (s.magnetic.enabled) {
-        double moment = 0;
-        for (const Vec3& m : s.particles.dipole_moment) moment += norm(m);
-        j["magnetic"] = {{"policy", policy_name(s.magnetic.settings.policy)},
-                         {"mean_iterations_per_step", mean_iterations(s.magnetic)},
-                         {"steps_with_magnet_off", s.magnetic.skipped_passes},
-                         {"update_interval_steps", s.magnetic.settings.update_interval},
-                         {"steps_with_held_forces", s.magnetic.held_passes},
-                         {"listed_magnetic_neighbours_per_grain",
-                          s.particles.size() ? 2.0 * s.magnetic.pairs.pair_count() / s.particles.size() : 0.0},
-                         {"mean_moment_A_m2", s.particles.size() ? moment / s.particles.size() : 0.0},
-                         {"applied_field", s.magnetic.field->name()}};
-        const ClosePairSettings& cp = s.magnetic.settings.close_pairs;
-        j["magnetic"]["close_pairs"] =
-            cp.enabled ? nlohmann::json{{"min_gap_radii", cp.min_gap},
-                                        {"range_radii", cp.range},
-                                        {"relative_permeability", s.magnetic.close_pair_table.relative_permeability()}}
-                       : nlohmann::json(nullptr);
-    }
+    for (const auto& term : s.terms) term->summarise(s, j);
     for (const Raft& r : s.rafts)
         j["rafts"].push_back({{"name", r.name},
                               {"grains", r.members},

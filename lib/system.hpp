@@ -8,6 +8,7 @@
 #include "contact/material.hpp"
 #include "core/domain.hpp"
 #include "fluid/flow_field.hpp"
+#include "force_term.hpp"
 #include "magnetic/magnetic_model.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "particles.hpp"
@@ -15,27 +16,12 @@
 
 namespace mrjam {
 
-// Which physics terms are built. Only what the scene names is on.
+// The contact law the force pass runs (the templated pair loop). Every other piece of physics is
+// a ForceTerm in System::terms (lib/force_term.hpp): only what the scene names is built.
 struct PhysicsSettings {
     bool contact = true;
     RollingModel rolling = RollingModel::none;
     CohesionModel cohesion = CohesionModel::none;
-    bool drag = false;
-    // Pairwise contact damping f_i = -c (v_i - v_j) between touching grains (N s/m; 0: off): a
-    // dissipation that, unlike drag against a background flow, does not impose the affine
-    // velocity profile (Lees-Edwards-free DEM rheology uses it; the shear mode offers it).
-    double pair_damping = 0;
-    double viscosity = 0;      // Pa s
-    double fluid_density = 0;  // kg/m3, for buoyancy under gravity
-    // Steps between carrier-flow lookups at the grains (scene: fluid/lookup_interval): the fluid's
-    // velocity and hindered-drag factor at each grain are looked up every `flow_lookup_interval`
-    // steps and held in between; the drag itself uses the grain's velocity of every step. A grain
-    // moves a few nanometres a step against flow features microns wide, while the lookup (grid
-    // search, interpolation) was a tenth of the 10 um valve's step (docs/notes/jam_measurements.md, "Held
-    // carrier-flow lookups", measures both). 1: every step.
-    int flow_lookup_interval = 1;
-    bool gravity = false;
-    Vec3 gravity_acceleration{};
 };
 
 // A group of grains moved rigidly at a prescribed velocity (a raft of a shear cell, a frozen
@@ -55,14 +41,6 @@ struct ContactStats {
     bool worst_is_wall = false;
 };
 
-// The carrier flow at each grain from the last lookup, reused while it is younger than
-// PhysicsSettings::flow_lookup_interval steps (that lookup's step included). Empty when none is held.
-struct HeldFlow {
-    std::vector<FlowField::Drag> at;
-    int age = 0;
-    long held_steps = 0;  // force evaluations that reused held lookups
-};
-
 struct System {
     Domain domain;
     Particles particles;
@@ -74,8 +52,8 @@ struct System {
     std::vector<Raft> rafts;
     NeighborList contacts;
     ContactStats contact_stats;
-    MagneticModel magnetic;  // off unless the scene has a "magnetic" block
-    HeldFlow held_flow;
+    MagneticModel magnetic;  // off unless the scene has a "magnetic" block (then a MagneticTerm adds its forces)
+    ForceTerms terms;        // the force terms besides contact, in the order they add (lib/force_term.hpp)
 
     double time = 0;
     long step = 0;

@@ -6,6 +6,8 @@
 
 #include "contact/restitution.hpp"
 #include "core/format.hpp"
+#include "terms/drag_term.hpp"
+#include "terms/pair_damping_term.hpp"
 
 namespace mrjam {
 
@@ -14,6 +16,7 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
     const double inf = std::numeric_limits<double>::infinity();
     lim.rayleigh = lim.hertz = lim.drag = lim.stokes = lim.pair_damping = inf;
     const Particles& p = s.particles;
+    const double viscosity = carrier_viscosity(s), pair_damping = pair_damping_coefficient(s);
     // The smallest grain of each material sets that material's limits.
     std::vector<std::size_t> smallest(s.materials.size(), p.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -39,13 +42,11 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
                 lim.hertz = std::min(lim.hertz, hertz_contact_duration(p.mass[i], r, ystar_wall, characteristic_speed));
             }
         }
-        if (s.physics.drag && s.physics.viscosity > 0)
-            lim.stokes = std::min(lim.stokes, p.mass[i] / (6.0 * M_PI * s.physics.viscosity * r));
+        if (viscosity > 0) lim.stokes = std::min(lim.stokes, p.mass[i] / (6.0 * M_PI * viscosity * r));
         // Pair damping relaxes the relative velocity of two smallest grains in m* / c (m* = m/2).
         // Explicit integration is stable up to 2 m* / (z c) with z contacts, so the default
         // safety fraction 0.1 of this time covers up to 20 contacts.
-        if (s.physics.pair_damping > 0)
-            lim.pair_damping = std::min(lim.pair_damping, 0.5 * p.mass[i] / s.physics.pair_damping);
+        if (pair_damping > 0) lim.pair_damping = std::min(lim.pair_damping, 0.5 * p.mass[i] / pair_damping);
     }
     lim.drag = std::min(lim.stokes, lim.pair_damping);
     lim.critical = std::min({lim.rayleigh, lim.hertz, lim.drag});

@@ -21,6 +21,7 @@
 #include "forces.hpp"
 #include "integrator.hpp"
 #include "system.hpp"
+#include "terms/gravity_term.hpp"
 
 namespace {
 
@@ -237,8 +238,7 @@ GrainOnFloor grain_on_floor(const Material& m, const Vec3& g, RollingModel rolli
     System& s = out.s;
     s.domain.lo.x = -0.05;
     s.domain.hi.x = 0.25;  // room to roll downhill
-    s.physics.gravity = true;
-    s.physics.gravity_acceleration = g;
+    s.terms.add(std::make_unique<GravityTerm>(g, 0.0));
     s.physics.rolling = rolling;
     s.walls.push_back(floor_wall(0));
     s.particles.add({0, 0, r}, r, m.density, 0);

@@ -11,6 +11,7 @@
 #include "fluid/coupled_valve_flow.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
+#include "terms/drag_term.hpp"
 
 using namespace mrjam;
 
@@ -120,7 +121,7 @@ TEST_SUITE("unit") {
         c.wall_gap = 0;  // no grains
         const CoupledFlow cf(v, c);
         System s;
-        s.physics.viscosity = mu;
+        s.terms.add(std::make_unique<DragTerm>(mu, 1));
         const AxialResistanceState st = cf.update(s);
         CHECK(st.scale == doctest::Approx(1.0));
         const double q0 = ValveFlow(v, 0.273).reference_flow_rate();
@@ -157,7 +158,7 @@ TEST_SUITE("unit") {
         const ValveGeometry v = valve_20x();
         const CoupledFlow cf(v, settings(v, 100e-6, 8));
         System s;
-        s.physics.viscosity = mu;
+        s.terms.add(std::make_unique<DragTerm>(mu, 1));
         pack(s, 20e-6, 0.0, v.throat_radius(), -0.5 * v.throat_length, 0.5 * v.throat_length);
         REQUIRE(s.particles.size() > 1000);
         const AxialResistanceState at_rest = cf.update(s);
@@ -189,7 +190,7 @@ TEST_SUITE("unit") {
         const CoupledFlow cf(v, settings(v, 100e-6, 10));
         const CoupledFlow clear(v, settings(v, 100e-6, 10));
         System s;
-        s.physics.viscosity = mu;
+        s.terms.add(std::make_unique<DragTerm>(mu, 1));
         pack(s, 20e-6, 0.6 * v.bore_radius(), v.bore_radius(), -0.9e-3, -0.6e-3);
         REQUIRE(s.particles.size() > 1000);
         const AxialResistanceState st = cf.update(s);

@@ -16,6 +16,7 @@
 #include "magnetics/getdp_problem.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "terms/drag_term.hpp"
 #include "test_support.hpp"
 
 using namespace mrjam;
@@ -103,7 +104,7 @@ TEST_SUITE("unit") {
 
         // The flow scale: one grain in the straight bore upstream, at the feed's density (factor 1).
         System s;
-        s.physics.viscosity = 0.16;
+        s.terms.add(std::make_unique<DragTerm>(0.16, 1));
         const double R = 20e-6;
         s.particles.position = {{0, 0, -0.8e-3}};
         s.particles.radius = {R};
@@ -149,7 +150,7 @@ TEST_SUITE("unit") {
         v.upstream_length = 1.0e-3;
         v.downstream_length = 0.5e-3;
         System s;
-        s.physics.viscosity = 0.16;
+        s.terms.add(std::make_unique<DragTerm>(0.16, 1));
         const double R = 20e-6, rt = v.throat_radius();
         // 0.2 mm cells from -0.9 mm: cell 4 is exactly the straight throat (-0.1 .. 0.1 mm).
         const AxialResistance res(v, 0.0, -0.9e-3, 0.5e-3, 0.2e-3, 0.345, 105e3);

@@ -265,7 +265,6 @@ TEST_SUITE("physics") {
         const double px0 = 0.3, pz0 = 1.0;
         Scene sc = sliding_box(json::array({{x0.x, x0.y, x0.z}}), diameter, mu, 7e-6, V, Vec3{u0 + px0, 0, pz0});
         System& s = sc.system;
-        s.physics.drag = true;
         s.flow = std::make_shared<SimpleShearFlow>(0, 2, rate, 0.5 * kBox);
         prepare(s);
         const double tau = s.particles.mass[0] / (6 * M_PI * mu * 0.5 * diameter);

@@ -41,6 +41,7 @@
 #include "observers.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "terms/magnetic_term.hpp"
 #include "test_support.hpp"
 
 using mrjam_test::rel;
@@ -697,6 +698,7 @@ TEST_SUITE("physics") {
         }
         MagneticModel& mag = s.magnetic;
         mag.enabled = true;
+        s.terms.add(std::make_unique<MagneticTerm>());
         mag.field = std::make_shared<UniformField>(Vec3{}, 0.0, 0.0, 1e300);
         mag.settings.policy = MutualPolicy::fixed;
         mag.settings.cutoff_scale = 20;
@@ -1097,10 +1099,11 @@ TEST_SUITE("physics") {
             }
             MagneticModel& mag = s.magnetic;
             mag.enabled = true;
+            s.terms.add(std::make_unique<MagneticTerm>());
             mag.field = std::make_shared<UniformField>(Vec3{B, 0, 0}, 0.0, 0.0, 1e300);
             mag.settings.policy = MutualPolicy::fixed;
             mag.settings.cutoff_scale = 4;
-            mag.settings.update_interval = interval;
+            mag.hold.interval = interval;
             mag.pairs = NeighborList(NeighborList::Settings{0.2 * R, 4.0, false, 0.0});
             initialise_moments(mag, p, 0.0);
             s.dt = dt;
@@ -1112,7 +1115,7 @@ TEST_SUITE("physics") {
                 const double v_next = p.velocity[0].x - p.velocity[1].x;
                 if (r_next <= 2 * R) {
                     const double f = (r - 2 * R) / (r - r_next);
-                    return Arrival{(s.time - dt) + f * dt, v + f * (v_next - v), mag.held_passes};
+                    return Arrival{(s.time - dt) + f * dt, v + f * (v_next - v), mag.hold.reused};
                 }
                 r = r_next, v = v_next;
             }

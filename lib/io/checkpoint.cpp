@@ -13,13 +13,13 @@
 namespace mrjam {
 namespace {
 
-// "MRJAMCK7" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces;
-// 6: held carrier-flow lookups; 7: a checksum). Versions 4 to 6 are still read: 4 and 5's runs
-// evaluated what they did not hold every step, and so do their resumptions.
-constexpr std::uint64_t kMagic = 0x374b434d414a524dull;
-constexpr std::uint64_t kMagicV6 = 0x364b434d414a524dull;
-constexpr std::uint64_t kMagicV5 = 0x354b434d414a524dull;
-constexpr std::uint64_t kMagicV4 = 0x344b434d414a524dull;
+// "MRJAMCK8" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces;
+// 6: held carrier-flow lookups; 7: a checksum; 8: each force term's state under its name, in
+// the list's order). Older files are refused by name: their term state was laid out by the
+// checkpoint code itself, which no longer knows any term's state.
+constexpr std::uint64_t kMagic = 0x384b434d414a524dull;
+constexpr std::uint64_t kMagicPrefix = 0x004b434d414a524dull;  // "MRJAMCK" and any version byte
+constexpr int kVersion = 8;
 
 void put_particles(std::ostream& out, const Particles& p) {
     p.for_each_array([&](const auto& a) { binary::put_vector(out, a); });
@@ -61,16 +61,21 @@ std::uint64_t file_size(const std::string& path) {
     return size;
 }
 
-// Opens a checkpoint past its magic number; `version` is 4 to 7. A version 7 file ends in the
-// checksum of everything before it, checked here before a byte of it is used.
+// Opens a checkpoint past its magic number. The file ends in the checksum of everything before
+// it, checked here before a byte of it is used.
 std::ifstream open_and_check(const std::string& path, int& version) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open checkpoint " + path);
     const auto magic = binary::get<std::uint64_t>(in);
-    if (magic != kMagic && magic != kMagicV6 && magic != kMagicV5 && magic != kMagicV4)
-        throw std::runtime_error(path + " is not an mrjam checkpoint (or was written by an incompatible version)");
-    version = magic == kMagic ? 7 : magic == kMagicV6 ? 6 : magic == kMagicV5 ? 5 : 4;
-    if (version >= 7) {
+    if ((magic & 0x00ffffffffffffffull) != kMagicPrefix) throw std::runtime_error(path + " is not an mrjam checkpoint");
+    version = static_cast<int>((magic >> 56) - '0');
+    if (version != kVersion)
+        throw SceneError("--resume",
+                         path + ": " + "checkpoint format " + std::to_string(version) + " was written by " +
+                             (version < kVersion ? "an older" : "a newer") + " mrjam, and this one reads format " +
+                             std::to_string(kVersion) +
+                             " only (each force term saves its own state since 8); rerun the scene from the start");
+    {
         const std::uint64_t size = file_size(path);
         if (size < 2 * sizeof(std::uint64_t)) throw std::runtime_error("checkpoint is truncated or unreadable");
         const std::uint64_t body = size - sizeof(std::uint64_t);
@@ -82,10 +87,8 @@ std::ifstream open_and_check(const std::string& path, int& version) {
     return in;
 }
 
-// A version 7 file's state ends where its checksum begins: anything else is a damaged file that
-// happened to parse.
-void check_read_to_end(std::istream& in, const std::string& path, int version) {
-    if (version < 7) return;
+// The state ends where the checksum begins: anything else is a damaged file that happened to parse.
+void check_read_to_end(std::istream& in, const std::string& path) {
     const auto here = in.tellg();
     if (here < 0 || static_cast<std::uint64_t>(here) + sizeof(std::uint64_t) != file_size(path))
         throw std::runtime_error("checkpoint is corrupt (its state does not end where its checksum begins)");
@@ -126,22 +129,10 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
         binary::put(out, s.domain.shear_velocity);
         put_particles(out, s.particles);
         s.contacts.save(out);
-        if (s.magnetic.enabled) {
-            s.magnetic.pairs.save(out);
-            // The counts behind the reported mean iterations per step: a run resumed after the
-            // magnet was switched off (no passes since) reports what the whole run did.
-            binary::put(out, s.magnetic.field_passes);
-            binary::put(out, s.magnetic.force_passes);
-            binary::put(out, s.magnetic.skipped_passes);
-            binary::put(out, s.magnetic.held_age);
-            binary::put(out, s.magnetic.held_passes);
-            binary::put_vector(out, s.magnetic.held_force);
-            binary::put_vector(out, s.magnetic.held_torque);
-        }
-        if (s.physics.drag) {
-            binary::put(out, s.held_flow.age);
-            binary::put(out, s.held_flow.held_steps);
-            binary::put_vector(out, s.held_flow.at);
+        binary::put<std::uint64_t>(out, s.terms.size());
+        for (const auto& term : s.terms) {
+            binary::put_string(out, term->name());
+            term->save(s, out);
         }
         binary::put<std::uint64_t>(out, s.walls.size());
         for (const Wall& w : s.walls) {
@@ -200,33 +191,14 @@ void restore_state(const std::string& path, System& s) {
         s.domain.shear_velocity = binary::get<double>(in);
         get_particles(in, s.particles);
         s.contacts.load(in);
-        if (s.magnetic.enabled) {
-            s.magnetic.pairs.load(in);
-            s.magnetic.field_passes = binary::get<long>(in);
-            s.magnetic.force_passes = binary::get<long>(in);
-            s.magnetic.skipped_passes = binary::get<long>(in);
-            s.magnetic.held_force.clear();
-            s.magnetic.held_torque.clear();
-            if (version >= 5) {
-                s.magnetic.held_age = binary::get<int>(in);
-                s.magnetic.held_passes = binary::get<long>(in);
-                binary::get_vector(in, s.magnetic.held_force);
-                binary::get_vector(in, s.magnetic.held_torque);
-            } else {
-                // Written before forces could be held: its run evaluated them every step, and a scene
-                // resolved then (no update_interval) must not pick up a later tier default mid-run.
-                s.magnetic.settings.update_interval = 1;
-            }
-        }
-        s.held_flow = HeldFlow{};
-        if (s.physics.drag && version >= 6) {
-            s.held_flow.age = binary::get<int>(in);
-            s.held_flow.held_steps = binary::get<long>(in);
-            binary::get_vector(in, s.held_flow.at);
-        } else if (s.physics.drag) {
-            // Written before lookups could be held: its run looked the flow up every step, and a
-            // scene resolved then must not pick up a later tier default mid-run.
-            s.physics.flow_lookup_interval = 1;
+        // The scene rebuilt the same terms in the same order; each reads back its own state.
+        if (binary::get<std::uint64_t>(in) != s.terms.size())
+            throw std::runtime_error("checkpoint " + path + " does not match its scene's force terms");
+        for (auto& term : s.terms) {
+            if (binary::get_string(in) != term->name())
+                throw std::runtime_error("checkpoint " + path + " does not match its scene's force terms (expected '" +
+                                         term->name() + "')");
+            term->load(s, in);
         }
         const auto nwalls = binary::get<std::uint64_t>(in);
         if (nwalls != s.walls.size())
@@ -246,7 +218,7 @@ void restore_state(const std::string& path, System& s) {
             raft.members = binary::get<std::size_t>(in);
             s.rafts.push_back(raft);
         }
-        check_read_to_end(in, path, version);
+        check_read_to_end(in, path);
     });
 }
 

@@ -23,8 +23,7 @@ struct CheckpointHeader {
     nlohmann::json resolved_scene;
     nlohmann::json history;  // observations recorded so far (e.g. a flux history)
     ProtocolPosition position;
-    int version = 7;  // 4: before magnetic forces could be held; 5: before carrier-flow lookups could be held;
-                      // 6: before the checksum
+    int version = 8;  // the file format (lib/io/checkpoint.cpp); only the current one is read
 };
 
 // Reads the scene part; restore_state then fills a system built from that scene. Both throw

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/quadrature.hpp"
+#include "terms/drag_term.hpp"
 
 namespace mrjam {
 
@@ -65,10 +66,11 @@ AxialResistanceState AxialResistance::update(const System& s, ValveFlow& flow, b
         out.max_fraction = std::max(out.max_fraction, phi);
         out.max_drag_factor = std::max(out.max_drag_factor, factor[k]);
     }
+    const double viscosity = carrier_viscosity(s);
     for (std::size_t i = 0; i < g.size(); ++i) {
         if (cell_of[i] < 0) continue;
         const auto c = static_cast<std::size_t>(cell_of[i]);
-        const double drag = 6.0 * M_PI * s.physics.viscosity * g.radius[i] * factor[c];
+        const double drag = 6.0 * M_PI * viscosity * g.radius[i] * factor[c];
         d1[c] += drag * flow.unscaled(g.position[i]).z;
         dv[c] += drag * g.velocity[i].z;
     }

@@ -163,11 +163,10 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
         throw std::logic_error("add_magnetic_forces: the magnetic pair list was not built for these grains");
     // Multiple time stepping: reuse the last evaluation while it is young enough (and was made
     // for these grains: a removal or a switch-on clears it).
-    const bool holding = s.update_interval > 1;
-    if (holding && model.held_force.size() == n && model.held_age < s.update_interval) {
+    const bool holding = model.hold.holding();
+    if (model.hold.reuse_now(model.held_force.size(), n)) {
         add_held(model, p, threads);
-        ++model.held_age;
-        ++model.held_passes;
+        model.hold.reused_once();
         return;
     }
     // Where this evaluation's forces go: straight onto the grains, or (holding) into the held
@@ -223,7 +222,7 @@ void add_magnetic_forces(MagneticModel& model, Particles& p, double time, int th
     if (s.policy == MutualPolicy::lagged) update_moments(model, p, time, true, threads);
     if (holding) {
         add_held(model, p, threads);
-        model.held_age = 1;
+        model.hold.evaluated();
     }
 }
 

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "force_term.hpp"
 #include "magnetic/close_pair_correction.hpp"
 #include "magnetic/external_field.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -53,13 +54,6 @@ struct MagneticSettings {
     int max_iterations = 500;  // for `converged`
     double cutoff_scale = 0;   // range = scale (R_i + R_j) + extra
     double cutoff_extra = 0;
-    // Steps between magnetic evaluations (multiple time stepping): the moments, pair forces,
-    // torques and gradient forces are evaluated every `update_interval` steps and held in
-    // between. The contact step is set by the grains' stiffness; the dipole forces change on the
-    // much slower scale of grains moving a fraction of their size, so holding them a few steps
-    // costs little accuracy for a pass that is a third of a step's work (docs/magnetic_forces.md
-    // measures it). 1: every step.
-    int update_interval = 1;
     // The two-body correction for close pairs (off: point dipoles only, as the source).
     ClosePairSettings close_pairs;
 };
@@ -78,11 +72,14 @@ struct MagneticModel {
     long field_passes = 0;  // mutual-dipole field evaluations so far
     long force_passes = 0;
     long skipped_passes = 0;  // steps with the field off and no permanent moment
-    // With update_interval > 1: the magnetic force and torque on each grain from the last
-    // evaluation, and how many steps (that one included) have used them. Empty when none is held.
+    // Multiple time stepping (scene: magnetic/update_interval): the moments, pair forces, torques
+    // and gradient forces are evaluated every `hold.interval` steps and held in between. The
+    // contact step is set by the grains' stiffness; the dipole forces change on the much slower
+    // scale of grains moving a fraction of their size, so holding them a few steps costs little
+    // accuracy for a pass that is a third of a step's work (docs/magnetic_forces.md measures it).
+    // held_force and held_torque are the last evaluation's (empty when none is held).
+    HoldSchedule hold;
     std::vector<Vec3> held_force, held_torque;
-    int held_age = 0;
-    long held_passes = 0;  // steps that reused held forces
 };
 
 // True while the magnet acts: the applied field is on, or some grain carries a permanent moment.

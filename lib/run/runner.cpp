@@ -219,7 +219,8 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 // Steps run in chunks that end at every event fixed by the step count (stage
                 // end, snapshot, step-counted checkpoint), so the fused integrator pass is used
                 // without moving any event; a per-step observer gets chunks of one.
-                const long every = observer || options.stage_finished ? std::max(1L, options.observe_every) : 0;
+                const bool hooks = observer || !options.modifiers.empty() || options.stage_finished;
+                const long every = hooks ? std::max(1L, options.observe_every) : 0;
                 const long chunk = steps_until_event(scene, st.steps - i, s.step, every);
                 grain_steps += static_cast<double>(chunk) * static_cast<double>(s.particles.size());
                 advance_steps(s, chunk);
@@ -229,6 +230,8 @@ RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPositio
                 pos.step_in_stage = i;
                 const bool observation = every > 0 && s.step % every == 0;
                 if (observer && observation) observer(s, k, i);
+                if (observation)
+                    for (const Modifier& m : options.modifiers) m.apply(s, k);
                 if (options.stage_finished && observation && options.stage_finished(s, k)) {
                     done_before += st.steps - i;  // the skipped steps count as done for the ETA
                     ended_early = true;

@@ -4,11 +4,21 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "io/checkpoint.hpp"
 #include "scene/scene.hpp"
 
 namespace mrjam {
+
+// A modifier changes the state between steps (LAMMPS's end-of-step fix, HOOMD's updater): an
+// outlet that takes grains out, a carrier flow set from the grains, a supply that follows the
+// protocol. It runs at every observation, after the observers have read the state the steps
+// produced and before the stage's criterion is tested.
+struct Modifier {
+    std::string name;
+    std::function<void(System&, std::size_t stage)> apply;
+};
 
 struct RunOptions {
     std::string scene_path;   // echoed into the report
@@ -18,9 +28,10 @@ struct RunOptions {
     // When resuming: the stage log the checkpoint carried (CheckpointHeader::history), so the
     // report and later checkpoints still list the stages finished before it. Null otherwise.
     nlohmann::json resumed_stage_log;
-    // The observer (and stage_finished) run every `observe_every` steps: 1 for per-step
-    // statistics; larger keeps the fused multi-step integrator pass.
+    // The observer, the modifiers and stage_finished run every `observe_every` steps: 1 for
+    // per-step statistics; larger keeps the fused multi-step integrator pass.
     long observe_every = 1;
+    std::vector<Modifier> modifiers;  // in the order they apply
     // Checked at each observation: true ends the current stage early (a mode's stopping
     // criterion, such as flow arrest). The stage log records the steps actually run.
     std::function<bool(const System&, std::size_t stage)> stage_finished;
@@ -36,8 +47,9 @@ struct RunOutcome {
     int exit_status = 0;  // 0 complete, 130 interrupted (checkpoint written), 3 blow-up
 };
 
-// Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress samples). It must not
-// change the state. It receives the stage index and the step within the stage.
+// Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress
+// samples). It reads the state only (a change is a Modifier's). It receives the stage index and
+// the step within the stage.
 using StepObserver = std::function<void(const System&, std::size_t stage, long step_in_stage)>;
 
 // Runs from `start` (the beginning, or a checkpoint's position after restore_state).

@@ -12,6 +12,10 @@
 #include "scene/scene_parts.hpp"
 #include "scene/scene_physics.hpp"
 #include "spatial_sort.hpp"
+#include "terms/drag_term.hpp"
+#include "terms/gravity_term.hpp"
+#include "terms/magnetic_term.hpp"
+#include "terms/pair_damping_term.hpp"
 
 namespace mrjam {
 namespace {
@@ -360,25 +364,27 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     s.pairs = PairTable(s.materials);
     for (auto pair : root.objects("material_pairs")) read_material_pair(pair, names, s.pairs);
 
+    double pair_damping = 0;
     if (auto c = root.optional_object("contact"))
-        read_contact(*c, s.physics);
+        read_contact(*c, s.physics, pair_damping);
     else {
         json in = json::object();
-        read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics);
+        read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics, pair_damping);
     }
 
+    // The force terms, in the order they add (per grain: drag, gravity; then magnetic, pair damping).
+    double fluid_density = 0;
     if (auto f = root.optional_object("fluid")) {
-        s.physics.drag = true;
-        s.physics.viscosity = f->quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
-        s.physics.fluid_density = f->quantity("density", units::density, 0.0, Bounds::non_negative());
-        s.physics.flow_lookup_interval = static_cast<int>(f->integer("lookup_interval", 1, 1, 100));
+        const double viscosity = f->quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
+        fluid_density = f->quantity("density", units::density, 0.0, Bounds::non_negative());
+        const int lookup_interval = static_cast<int>(f->integer("lookup_interval", 1, 1, 100));
         if (auto fl = f->optional_object("flow")) s.flow = read_flow(*fl, s.domain);
         f->finish();
+        s.terms.add(std::make_unique<DragTerm>(viscosity, lookup_interval));
     }
-    if (root.has("gravity")) {
-        s.physics.gravity = true;
-        s.physics.gravity_acceleration = root.vector("gravity", units::acceleration, std::nullopt);
-    }
+    if (root.has("gravity"))
+        s.terms.add(
+            std::make_unique<GravityTerm>(root.vector("gravity", units::acceleration, std::nullopt), fluid_density));
 
     const FidelityTier* tier_ptr = nullptr;
     try {
@@ -388,7 +394,11 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     }
     const FidelityTier& tier = *tier_ptr;
     scene.fidelity = describe(tier);
-    if (auto mag = root.optional_object("magnetic")) read_magnetic(*mag, s, options, tier);
+    if (auto mag = root.optional_object("magnetic")) {
+        read_magnetic(*mag, s, options, tier);
+        s.terms.add(std::make_unique<MagneticTerm>());
+    }
+    if (pair_damping > 0) s.terms.add(std::make_unique<PairDampingTerm>(pair_damping));
 
     std::vector<std::string> wall_names;
     for (auto w : root.objects("walls")) {

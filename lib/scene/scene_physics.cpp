@@ -68,7 +68,7 @@ void read_material_pair(SceneNode node, const std::vector<std::string>& names, P
     pairs.set_pair(index[0], index[1], c);
 }
 
-void read_contact(SceneNode node, PhysicsSettings& ph) {
+void read_contact(SceneNode node, PhysicsSettings& ph, double& pair_damping) {
     ph.contact = node.choice("model", {"hertz_mindlin", "none"}, "hertz_mindlin") == "hertz_mindlin";
     const std::string rolling = node.choice("rolling", {"none", "epsd", "sds"}, "none");
     ph.rolling = rolling == "epsd" ? RollingModel::epsd : rolling == "sds" ? RollingModel::sds : RollingModel::none;
@@ -76,8 +76,8 @@ void read_contact(SceneNode node, PhysicsSettings& ph) {
     ph.cohesion = cohesion == "sjkr"  ? CohesionModel::sjkr
                   : cohesion == "dmt" ? CohesionModel::dmt
                                       : CohesionModel::none;
-    ph.pair_damping = node.quantity("pair_damping", units::damping, 0.0, Bounds::non_negative());
-    if (ph.pair_damping > 0 && !ph.contact)
+    pair_damping = node.quantity("pair_damping", units::damping, 0.0, Bounds::non_negative());
+    if (pair_damping > 0 && !ph.contact)
         node.fail("pair_damping", "acts between touching grains: it needs the hertz_mindlin contact model");
     node.finish();
 }
@@ -186,7 +186,7 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     if (converged || node.has("tolerance")) st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
     if (converged || node.has("max_iterations"))
         st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
-    st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
+    mag.hold.interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto close = node.optional_object("close_pairs")) {
         // The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").
         st.close_pairs.enabled = true;

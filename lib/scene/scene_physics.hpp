@@ -14,7 +14,8 @@ namespace mrjam {
 Material read_material(SceneNode node);
 // One pair's friction and cohesion in place of the mixing rule's means.
 void read_material_pair(SceneNode node, const std::vector<std::string>& names, PairTable& pairs);
-void read_contact(SceneNode node, PhysicsSettings& ph);
+// The contact block: the contact law's sub-models, and the pair damping coefficient (N s/m; 0: none).
+void read_contact(SceneNode node, PhysicsSettings& ph, double& pair_damping);
 // Induced coefficient (eq. 2.4), saturation cap and permanent moment of grain i.
 void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng& rng);
 // The close-pair correction's table, once the grains are placed (r_max: the largest radius).

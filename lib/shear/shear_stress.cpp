@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "magnetic/magnetic_model.hpp"
+#include "terms/drag_term.hpp"
+#include "terms/pair_damping_term.hpp"
 
 namespace mrjam {
 namespace {
@@ -30,6 +32,7 @@ template <RollingModel Rolling, CohesionModel Cohesion, class Weight>
 double contact_moment(const System& s, Weight weight) {
     const Particles& p = s.particles;
     const NeighborList& list = s.contacts;
+    const double damping = pair_damping_coefficient(s);
     double sum = 0;
     for_each_pair_with_free_grain(
         p, list, [&](std::size_t i, std::uint32_t j, std::uint32_t k, const Vec3& d, double r2) {
@@ -42,7 +45,7 @@ double contact_moment(const System& s, Weight weight) {
             hertz_mindlin<Rolling, Cohesion>(s.pairs(p.material[i], p.material[j]), in, h, s.dt, out);
             const double wgt = weight(d, list.image[k]);
             sum += wgt * out.force_on_i.x;
-            if (s.physics.pair_damping > 0) sum += wgt * (-s.physics.pair_damping * dv.x);
+            if (damping > 0) sum += wgt * (-damping * dv.x);
         });
     return sum;
 }
@@ -110,6 +113,7 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
     ShearStress out;
     double f_upper = 0, f_lower = 0, drag_moment = 0, kinetic = 0;
     const double z_mid = 0.5 * (z_lower + z_upper);
+    const double viscosity = carrier_viscosity(s);
     for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.raft[i] == upper_raft && upper_raft >= 0)
             f_upper += p.force[i].x;
@@ -117,9 +121,9 @@ ShearStress shear_stress(const System& s, int upper_raft, int lower_raft, int to
             f_lower += p.force[i].x;
         else if (p.raft[i] < 0) {
             const Vec3 u = s.flow->velocity(p.position[i], s.time);
-            if (s.physics.drag)
-                drag_moment += (p.position[i].z - z_mid) *
-                               (-(p.velocity[i].x - u.x) * 6.0 * M_PI * s.physics.viscosity * p.radius[i]);
+            if (viscosity > 0)
+                drag_moment +=
+                    (p.position[i].z - z_mid) * (-(p.velocity[i].x - u.x) * 6.0 * M_PI * viscosity * p.radius[i]);
             kinetic += p.mass[i] * (p.velocity[i].x - u.x) * p.velocity[i].z;
         }
     }
