@@ -4,15 +4,16 @@
 #include <string>
 #include <vector>
 
+#include "core/exit_status.hpp"
 #include "jam/proportion_interval.hpp"
 
 namespace mrjam::cli {
 
 // Exit codes: 0 done, 1 internal or I/O error, 2 bad input (scene or command line),
 // 3 the run blew up, 130 interrupted (checkpoint written).
-inline constexpr int kExitError = 1;
-inline constexpr int kExitBadInput = 2;
-inline constexpr int kExitInterrupted = 130;
+using mrjam::kExitBadInput;
+using mrjam::kExitError;
+using mrjam::kExitInterrupted;
 
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);

@@ -15,11 +15,11 @@
 #include "jam/continuum_tier.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_run.hpp"
+#include "jam/seed_tally.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
-#include "seed_tally.hpp"
 
 namespace mrjam::cli {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace mrjam::cli {
+namespace mrjam {
 
 struct DesignProgress {
     nlohmann::json inputs;                          // the design file as read: a resume must run the same design
@@ -32,4 +32,4 @@ void write_design_progress(const std::filesystem::path& output_directory, const 
 DesignProgress read_design_progress(const std::filesystem::path& output_directory, const nlohmann::json& design,
                                     const std::string& fidelity);
 
-}  // namespace mrjam::cli
+}  // namespace mrjam

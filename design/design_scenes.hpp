@@ -12,7 +12,7 @@
 #include "magnetics/magnetics_scene.hpp"
 #include "scene/scene_node.hpp"
 
-namespace mrjam::cli {
+namespace mrjam {
 
 struct DesignSpec {
     nlohmann::json design;                                      // the file as read
@@ -49,4 +49,4 @@ SceneError from_jam_run(const SceneError& e, const DesignSpec& spec, std::size_t
 
 void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_tier, const std::string& jam_tier);
 
-}  // namespace mrjam::cli
+}  // namespace mrjam

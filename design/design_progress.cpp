@@ -1,11 +1,11 @@
-#include "design_progress.hpp"
+#include "design/design_progress.hpp"
 
 #include <fstream>
 
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 
-namespace mrjam::cli {
+namespace mrjam {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -64,4 +64,4 @@ DesignProgress read_design_progress(const fs::path& output_directory, const json
     return p;
 }
 
-}  // namespace mrjam::cli
+}  // namespace mrjam

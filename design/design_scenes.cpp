@@ -1,4 +1,4 @@
-#include "design_scenes.hpp"
+#include "design/design_scenes.hpp"
 
 #include <cmath>
 #include <limits>
@@ -8,7 +8,7 @@
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 
-namespace mrjam::cli {
+namespace mrjam {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -193,4 +193,4 @@ void check_design_scenes(const DesignSpec& spec, const std::string& magnetics_ti
         }
 }
 
-}  // namespace mrjam::cli
+}  // namespace mrjam

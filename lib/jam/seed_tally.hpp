@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-namespace mrjam::cli {
+namespace mrjam {
 
 struct SeedTally {
     int seeds = 0;
@@ -20,4 +20,4 @@ SeedTally tally_seeds(const nlohmann::json& records);
 // undetermined_seeds.
 nlohmann::json seed_probabilities(const SeedTally& tally);
 
-}  // namespace mrjam::cli
+}  // namespace mrjam

@@ -1,10 +1,10 @@
-#include "seed_tally.hpp"
+#include "jam/seed_tally.hpp"
 
 #include <string>
 
-#include "cli_common.hpp"
+#include "jam/proportion_interval.hpp"
 
-namespace mrjam::cli {
+namespace mrjam {
 
 SeedTally tally_seeds(const nlohmann::json& records) {
     SeedTally t;
@@ -27,7 +27,9 @@ nlohmann::json seed_probabilities(const SeedTally& t) {
         return t.judged > 0 ? nlohmann::json(static_cast<double>(k) / t.judged) : nlohmann::json(nullptr);
     };
     auto interval = [&](int k) {
-        return t.judged > 0 ? interval_json(wilson_interval(k, t.judged)) : nlohmann::json(nullptr);
+        if (t.judged == 0) return nlohmann::json(nullptr);
+        const ProportionInterval ci = wilson_interval(k, t.judged);
+        return nlohmann::json::array({ci.low, ci.high});
     };
     return {{"jam_probability", share(t.jams)},
             {"arrest_probability", share(arrests)},
@@ -36,4 +38,4 @@ nlohmann::json seed_probabilities(const SeedTally& t) {
             {"undetermined_seeds", t.seeds - t.judged}};
 }
 
-}  // namespace mrjam::cli
+}  // namespace mrjam
