@@ -2,10 +2,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include "integrator.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 
@@ -87,6 +89,24 @@ void prepare_output_file(const std::string& path, const std::string& option, con
             throw SceneError(option, path + " is also this command's input " + input +
                                          ": writing it would lose that; give another file");
     if (p.has_parent_path()) prepare_output_directory(p.parent_path().string(), option);
+}
+
+int run_cli(CLI::App& app, int argc, char** argv, const int& exit_status) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : kExitBadInput;
+    } catch (const SceneError& e) {
+        std::cerr << "error in scene: " << e.what() << "\n";
+        return kExitBadInput;
+    } catch (const BlowUp& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return kExitBlowUp;
+    } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return kExitError;
+    }
+    return exit_status;
 }
 
 }  // namespace mrjam::cli

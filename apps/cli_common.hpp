@@ -1,5 +1,6 @@
 #pragma once
 // Shared by the subcommands: reading a scene file and mapping failures to exit codes.
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,11 @@ using mrjam::kExitInterrupted;
 
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);
+
+// Parses the command line and runs the chosen subcommand's callback, turning what it throws into
+// the exit status: bad input (a CLI error, a SceneError naming the key) 2, a blow-up 3, another
+// fault 1; otherwise the status the callback set.
+int run_cli(CLI::App& app, int argc, char** argv, const int& exit_status);
 
 // A report file named by a command-line option (`option`, e.g. "--report"): refused before any
 // work if it is empty, a directory, under a file, or one of the command's `inputs` (the scene,

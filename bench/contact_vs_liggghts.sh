@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# mrjam's "bench contact" scene against LIGGGHTS 3.8 on the identical initial state.
+# mrjam-bench's "contact" scene against LIGGGHTS 3.8 on the identical initial state.
 #
-#   bench/contact_vs_liggghts.sh [MRJAM_BINARY] [STEPS]
+#   bench/contact_vs_liggghts.sh [MRJAM_BENCH_BINARY] [STEPS]
 #
-#   MRJAM_BINARY  default build/mrjam (a relative path is taken from the current directory)
+#   MRJAM_BENCH_BINARY  default build/mrjam-bench (a relative path is taken from the current directory)
 #   STEPS         default 2000
 #
 # Environment:
@@ -26,7 +26,7 @@ die() { echo "contact_vs_liggghts: $*" >&2; exit 1; }
 case "${1:-}" in -h|--help) usage; exit 0 ;; esac
 [ $# -le 2 ] || { usage >&2; exit 2; }
 
-mrjam=${1:-build/mrjam}
+mrjam=${1:-build/mrjam-bench}
 steps=${2:-2000}
 if [ $# -ge 1 ] && [ "${mrjam#/}" = "$mrjam" ]; then mrjam="$PWD/$mrjam"; fi
 
@@ -36,7 +36,7 @@ if [ "${mrjam#/}" = "$mrjam" ]; then mrjam="$root/$mrjam"; fi
 
 case "$steps" in ''|*[!0-9]*) die "STEPS must be a positive integer, got '$steps'" ;; esac
 [ "$steps" -gt 0 ] || die "STEPS must be a positive integer, got '$steps'"
-[ -x "$mrjam" ] || die "no mrjam executable at $mrjam (build it: cmake -B build && cmake --build build)"
+[ -x "$mrjam" ] || die "no mrjam-bench executable at $mrjam (build it: cmake -B build && cmake --build build)"
 
 liggghts=${LIGGGHTS:-liggghts}
 command -v "$liggghts" >/dev/null 2>&1 ||
@@ -69,9 +69,9 @@ is_number() { printf '%s' "$1" | grep -Eq '^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE]
 
 # ---- mrjam and LIGGGHTS, alternating ---------------------------------------------------------
 run_mrjam() {
-    echo "== mrjam run $1/$repeat: $mrjam bench contact --steps $steps"
-    "$mrjam" bench contact --steps "$steps" --write-data "$data" --json "$mrjam_json.run" ||
-        die "mrjam bench contact failed"
+    echo "== mrjam run $1/$repeat: $mrjam contact --steps $steps"
+    "$mrjam" contact --steps "$steps" --write-data "$data" --json "$mrjam_json.run" ||
+        die "mrjam-bench contact failed"
     [ -s "$data" ] || die "mrjam wrote no data file at $data"
     local us
     us=$(json_number "$mrjam_json.run" core_us_per_particle_step)

@@ -4,7 +4,7 @@ nearest node to each (y, z): where a map's field sits against its value on the a
 
     python3 bench/field_map_probe.py OUT/40x/field.map [--y-mm -1.2,-0.8,...] [--z-mm -1,-0.5,...]
 
-Standard library only; the format is lib/magnetic/external_field.hpp's (x fastest, then y, z).
+Standard library only; the format is lib/engine/magnetic/external_field.hpp's (x fastest, then y, z).
 """
 import argparse
 

@@ -42,6 +42,6 @@ for line in sys.stdin:
 if parts["kick"] == 0:
     sys.exit("no kick samples: the run ended before it stepped")
 if parts["grain contacts"] == 0:
-    sys.exit("no samples named grain_contacts: the build inlined the contact pass (lib/forces.cpp keeps it out of line)")
+    sys.exit("no samples named grain_contacts: the build inlined the contact pass (lib/engine/forces.cpp keeps it out of line)")
 print(", ".join("%s %.2f" % (k, v / parts["kick"]) for k, v in parts.items() if k != "kick"), "samples per kick sample")
 '

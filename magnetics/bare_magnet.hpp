@@ -1,7 +1,7 @@
 #pragma once
 // Verification model: one uniformly magnetised cuboid magnet alone in air, meshed and solved by
 // the same gmsh + GetDP pipeline as the valve, so its field can be checked against the closed
-// form (magnetics/cuboid_field.hpp). Used by the test suite and `mrjam bench magnetics`.
+// form (magnetics/cuboid_field.hpp). Used by the test suite and `mrjam-bench magnetics`.
 #include <filesystem>
 #include <vector>
 

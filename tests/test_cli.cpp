@@ -664,17 +664,17 @@ TEST_SUITE("cli") {
         TempDir dir;
         write_text(dir.file("a_file"), "x");
         for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
-                 {"bench sphere-pair --permeability 1", "--permeability"},
-                 {"bench sphere-pair --permeability nan", "--permeability"},
-                 {"bench sphere-pair --gap 1e-300", "--gap"},
-                 {"bench sphere-pair --gap 1e308", "--gap"},
-                 {"bench contact --grains 20 --steps 1 --json " + quote(dir.file("")), "--json"},
-                 {"bench contact --grains 20 --steps 1 --write-data " + quote(dir.file("a_file") + "/d.data"),
+                 {"sphere-pair --permeability 1", "--permeability"},
+                 {"sphere-pair --permeability nan", "--permeability"},
+                 {"sphere-pair --gap 1e-300", "--gap"},
+                 {"sphere-pair --gap 1e308", "--gap"},
+                 {"contact --grains 20 --steps 1 --json " + quote(dir.file("")), "--json"},
+                 {"contact --grains 20 --steps 1 --write-data " + quote(dir.file("a_file") + "/d.data"),
                   "--write-data"},
-                 {"bench flow --json " + quote(dir.file("a_file") + "/f.json"), "--json"},
-                 {"bench magnetic-accuracy --grains 16", "--grains"}}) {
+                 {"flow --json " + quote(dir.file("a_file") + "/f.json"), "--json"},
+                 {"magnetic-accuracy --grains 16", "--grains"}}) {
             CAPTURE(args);
-            const Result r = mrjam(dir, args);
+            const Result r = mrjam_test::mrjam_bench(dir, args);
             CAPTURE(r.err);
             CHECK(r.exit_code == 2);
             CHECK(r.err.find(option) != std::string::npos);

@@ -1,4 +1,4 @@
-// The close-pair correction (lib/magnetic/close_pair_correction): with it, the engine's force on
+// The close-pair correction (lib/engine/magnetic/close_pair_correction): with it, the engine's force on
 // an isolated pair is the exact two-sphere force, along and across the line of centres.
 //
 //  1. Two iron grains (mu_r 1000) 0.1 radii apart, the line of centres 35 degrees from the field,

@@ -1,4 +1,4 @@
-// Taking grains out of a running system (lib/grain_removal.hpp) must leave the rest of the run
+// Taking grains out of a running system (lib/engine/grain_removal.hpp) must leave the rest of the run
 // as if those grains had never been there: two piles far apart, one removed mid-run, against a
 // run of the other pile alone, bit for bit (contact and wall histories, lists, order).
 #include <doctest/doctest.h>

@@ -205,7 +205,7 @@ TEST_SUITE("physics") {
     // field is 2 m / (4 pi (2R)^3) = m / (16 pi R^3) along the moment, so m = C H0 + beta m / 4 and
     // m = C H0 / (1 - beta/4); side by side it is -m / (32 pi R^3), so m = C H0 / (1 + beta/8). The
     // force goes as m^2: the converged over fixed-dipole ratio is 1/(1 - beta/4)^2 or 1/(1 + beta/8)^2.
-    // The settle criterion's magnetic energy, -1/2 sum m . B0 (lib/observers.hpp): a lone sphere's is
+    // The settle criterion's magnetic energy, -1/2 sum m . B0 (lib/engine/observers.hpp): a lone sphere's is
     // -1/2 C B0^2 / mu0; two touching spheres' converged moments are the lone one's over (1 - beta/4) in
     // line and over (1 + beta/8) side by side (the closed form below), so their energies are too: a
     // chain lowers it, a side-by-side pair raises it.

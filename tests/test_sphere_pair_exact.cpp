@@ -1,4 +1,4 @@
-// The exact two-sphere solution (lib/magnetic/sphere_pair_exact): the yardstick for the point
+// The exact two-sphere solution (lib/engine/magnetic/sphere_pair_exact): the yardstick for the point
 // dipoles' error between close grains.
 //
 //  1. Translation coefficients: an outgoing harmonic about one centre, evaluated directly, equals

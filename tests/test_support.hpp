@@ -87,13 +87,14 @@ struct Result {
 };
 
 #ifdef MRJAM_BINARY
-// Runs `mrjam ARGS` with stdout and stderr captured in files of `dir`. `then` is more shell after
+// Runs `BINARY ARGS` with stdout and stderr captured in files of `dir`. `then` is more shell after
 // it (e.g. " & pid=$!; ...; wait $pid" to run it in the background and signal it).
-inline Result mrjam(const TempDir& dir, const std::string& args, const std::string& then = "") {
+inline Result run_binary(const std::string& binary, const TempDir& dir, const std::string& args,
+                         const std::string& then = "") {
     static std::atomic<int> counter{0};
     const int k = counter++;
     const std::string out = dir.file("stdout_" + std::to_string(k)), err = dir.file("stderr_" + std::to_string(k));
-    const std::string command = quote(MRJAM_BINARY) + " " + args + " > " + quote(out) + " 2> " + quote(err) + then;
+    const std::string command = quote(binary) + " " + args + " > " + quote(out) + " 2> " + quote(err) + then;
     const int status = std::system(command.c_str());
     Result r;
     REQUIRE(status != -1);
@@ -102,6 +103,17 @@ inline Result mrjam(const TempDir& dir, const std::string& args, const std::stri
     r.err = slurp(err);
     return r;
 }
+
+inline Result mrjam(const TempDir& dir, const std::string& args, const std::string& then = "") {
+    return run_binary(MRJAM_BINARY, dir, args, then);
+}
+
+#ifdef MRJAM_BENCH_BINARY
+// `mrjam-bench ARGS`, the benchmarks' executable.
+inline Result mrjam_bench(const TempDir& dir, const std::string& args) {
+    return run_binary(MRJAM_BENCH_BINARY, dir, args);
+}
+#endif
 
 // Writes `scene` as NAME.json and runs `mrjam MODE NAME.json --report NAME_report.json --quiet EXTRA`.
 inline Result run_mode(const TempDir& dir, const std::string& mode, const std::string& name,

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "io/binary_io.hpp"
+#include "core/binary_io.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {

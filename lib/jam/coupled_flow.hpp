@@ -1,7 +1,7 @@
 #pragma once
 // The two-way coupled carrier flow of `mrjam jam` (fluid/flow "coupled"): the supply pressure
 // drives the fluid through the rest of the circuit and through the grains, and the fluid finds
-// its own way through them (lib/fluid/coupled_valve_flow.hpp holds the field the grains feel).
+// its own way through them (lib/engine/fluid/coupled_valve_flow.hpp holds the field the grains feel).
 //
 // Model (stated in the report):
 //  * Grid: slices along the tube (about `cell_length` each) cut into rings of equal width. In
@@ -18,7 +18,7 @@
 //  * Circuit: P = R_c Q + sum_k G_k dz_k, with R_c sized so that the supply pressure P drives the
 //    source's bore flow rate Q0 (the bore profile at the bore speed, fluid/valve_flow.hpp) through
 //    clear fluid; Q is clamped to [0, Q0] as in the one-profile option.
-//  * Past the orifice exit the slices solve the jet only (lib/fluid/coupled_valve_flow.hpp);
+//  * Past the orifice exit the slices solve the jet only (lib/engine/fluid/coupled_valve_flow.hpp);
 //    grains in the still corner outside it feel no flow and give the fluid no drag.
 // With the grains moving as the fluid they add nothing, and the flow is Poiseuille's in every
 // slice at Q0; a packed bed at rest across a slice throttles Q; a pile resting in the corner

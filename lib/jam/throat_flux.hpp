@@ -30,7 +30,7 @@ public:
     // of `base` grains/s: (window end, share) pairs. Empty when base is not positive.
     std::vector<std::pair<double, double>> window_shares(double t0, double t1, double window, double base) const;
 
-    // Follows a removal of grains (lib/grain_removal.hpp's surviving index), so the next
+    // Follows a removal of grains (lib/engine/grain_removal.hpp's surviving index), so the next
     // observation compares each remaining grain with its own previous position.
     void remove_grains(const std::vector<std::int64_t>& new_index, std::size_t kept);
 

@@ -3,7 +3,7 @@
 namespace mrjam {
 namespace {
 
-// Chosen from measured tables. Magnetic (docs/magnetic_forces.md, `mrjam bench magnetic-accuracy`,
+// Chosen from measured tables. Magnetic (docs/magnetic_forces.md, `mrjam-bench magnetic-accuracy`,
 // 8,116 chained grains, errors of the magnetic stress sigma_zz against converged dipoles at 8
 // diameters): lagged dipoles are within 0.02% of converged ones while converging costs ~27 field
 // passes per step, so every tier is lagged; the cutoff sets the error: 2 d -0.55%, 3 d -0.14%,

@@ -91,6 +91,257 @@ std::vector<double> decreasing_list(SceneNode& node, const std::string& key, con
     return v;
 }
 
+// Reads block `key` with `read`: the scene's own, or (left out) an empty one whose defaults the
+// echo then records.
+template <class Read>
+void read_optional_block(SceneNode& root, const char* key, nlohmann::json& resolved, Read&& read) {
+    nlohmann::json empty = nlohmann::json::object();
+    if (auto given = root.optional_object(key))
+        read(*given);
+    else
+        read(SceneNode(empty, resolved[key], std::string("/") + key));
+}
+
+// The cell block (every key has a default: the block may be left out).
+void read_cell_block(SceneNode cell, const ShearTier& tier, ShearSpec& s) {
+    // A monolayer: one layer of grains with centres in the x-z plane (shear and gradient),
+    // `size` y its thickness for the stress, by default the largest diameter.
+    s.monolayer = cell.boolean("monolayer", false);
+    const double thickness = s.monolayer ? s.largest_diameter : tier.cell_size;
+    s.cell = cell.vector("size", units::length, Vec3{tier.cell_size, thickness, tier.cell_size}, Bounds::positive());
+    if (s.monolayer && s.cell.y < s.largest_diameter)
+        cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
+                              fmt_um(s.largest_diameter) +
+                              "); it is the thickness the stress is divided by, usually the largest diameter");
+    s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
+    if (s.lees_edwards) {
+        if (cell.has("raft_thickness"))
+            cell.fail("raft_thickness",
+                      "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
+                      "(remove raft_thickness or use rafts)");
+        s.raft_thickness = 0;
+    } else {
+        s.raft_thickness =
+            cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
+    }
+    if (!(s.gap() > 0))
+        cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) + " each) leave no gap in a cell " +
+                                        fmt_um(s.cell.z) + " high; thin the rafts or raise the cell");
+    cell.finish();
+}
+
+// The contact block (every key has a default: the block may be left out).
+void read_contact_block(SceneNode c, ShearSpec& s) {
+    s.rolling = c.choice("rolling", {"none", "epsd", "sds"}, "epsd");
+    s.cohesion = c.choice("cohesion", {"none", "sjkr", "dmt"}, "sjkr");
+    c.finish();
+}
+
+// The magnetic block (every key has a default: the block may be left out).
+void read_magnetic_block(SceneNode m, const ShearTier& tier, ShearSpec& s) {
+    s.magnetic = nlohmann::json::object();
+    s.magnetic["mutual"] = m.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
+    if (m.has("cutoff"))
+        s.magnetic["cutoff"] = m.raw("cutoff");
+    else
+        m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
+    for (const char* k : {"iterations", "tolerance", "max_iterations"})
+        if (m.has(k)) s.magnetic[k] = m.raw(k);
+    // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
+    // "none": the linear law of eq. 2.4 without a cap, the source's chapter-2 model.
+    s.saturation = m.choice("saturation", {"material", "none"}, "material");
+    m.finish();
+}
+
+// The run block (every key has a default: the block may be left out).
+void read_run_block(SceneNode r, const ShearTier& tier, ShearSpec& s) {
+    s.run = nlohmann::json::object();
+    s.run["timestep_safety"] = r.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, 0.2));
+    s.run["characteristic_speed"] = r.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
+    // Magnetic attraction pulls small grains onto large ones at tens of m/s (drag is the only
+    // brake): with the source's soft modulus (1 GPa) an impact overlaps a small grain by
+    // 30-40% of its radius, resolved in ~40 steps - physics of the chosen modulus, not a
+    // numerical blow-up (docs/shear.md), so the guard sits at 0.6 rather than run's 0.1.
+    s.run["max_overlap_fraction"] = r.number("max_overlap_fraction", 0.6, Bounds::open(0.0, 1.0));
+    if (r.has("timestep")) s.run["timestep"] = r.raw("timestep");
+    r.finish();
+}
+
+// The magnetise block (every key has a default: the block may be left out).
+void read_magnetise_block(SceneNode m, const ShearTier& tier, ShearSpec& s) {
+    s.magnetise_check_every = m.quantity("check_every", units::time, 1e-6, Bounds::positive());
+    s.magnetise_window = static_cast<int>(m.integer("window", 5, 2, 1000));
+    s.magnetise_tolerance = m.number("tolerance", 0.02, Bounds::open(0.0, 1.0));
+    s.magnetise_min = m.quantity("min_duration", units::time, 10e-6, Bounds::non_negative());
+    // A field switched on at once pulls small grains onto large ones at tens of m/s (Stokes
+    // drag is the only brake), overlapping them by 40% of their radius with the source's soft
+    // modulus. Raising it over a few microseconds, as any real magnet does over far longer,
+    // lets the first chains form gently; the settled structure is what is sheared.
+    s.field_ramp = m.quantity("field_ramp", units::time, 5e-6, Bounds::non_negative());
+    s.magnetise_max = m.quantity("max_duration", units::time, tier.magnetise_max, Bounds::positive());
+    if (s.magnetise_max < s.magnetise_min) m.fail("max_duration", "must not be shorter than min_duration");
+    // Sheared before the ramp ends, the cell would be measured in a field still rising.
+    if (s.field_ramp > s.magnetise_min)
+        m.fail(m.has("field_ramp") ? "field_ramp" : "min_duration",
+               "the field ramps up over field_ramp (" + format_number(s.field_ramp * 1e6) +
+                   " us) and the chains must settle in "
+                   "the full field: make min_duration at least field_ramp");
+    m.finish();
+}
+
+// The ladder block (every key has a default: the block may be left out).
+void read_ladder_block(SceneNode l, const ShearTier& tier, ShearSpec& s) {
+    if (l.has("wall_speeds") && l.has("shear_rates"))
+        l.fail("shear_rates", "give either 'wall_speeds' or 'shear_rates', not both");
+    if (l.has("wall_speeds")) {
+        s.wall_speeds = decreasing_list(l, "wall_speeds", units::velocity);
+        // The rafts move at +v and -v: the rate across the gap is 2 v / gap.
+        for (double v : s.wall_speeds) s.rates.push_back(2 * v / s.gap());
+    } else {
+        if (l.has("shear_rates")) {
+            s.rates = decreasing_list(l, "shear_rates", units::frequency);
+        } else {
+            // The source's ladder: wall speeds 0.128 ... 0.001 m/s across its 220 um gap
+            // (sec. 2.4.2), kept as rates so a smaller cell shears at the same rates.
+            for (double v : {0.128, 0.064, 0.032, 0.011, 0.008, 0.004, 0.002, 0.001}) s.rates.push_back(2 * v / 220e-6);
+            l.resolved_child("shear_rates") = s.rates;
+        }
+        for (double g : s.rates) s.wall_speeds.push_back(0.5 * g * s.gap());
+    }
+    if (l.has("steps_first") || l.has("steps_per_rate")) {
+        s.steps_first = l.integer("steps_first", std::nullopt, 1);
+        s.steps_per_rate = l.integer("steps_per_rate", std::nullopt, 1);
+    } else {
+        s.strain_first = l.number("strain_first", tier.strain_first, Bounds::positive());
+        s.strain_per_rate = l.number("strain_per_rate", tier.strain_per_rate, Bounds::positive());
+    }
+    l.finish();
+}
+
+// The measure block (every key has a default: the block may be left out).
+void read_measure_block(SceneNode m, ShearSpec& s) {
+    s.samples_per_rate = static_cast<int>(m.integer("samples_per_rate", 40, 4, 100000));
+    s.window_fraction = m.number("window", 0.5, Bounds::open_closed(0.0, 1.0));
+    // One block gives no spread to put an error bar on.
+    s.blocks = static_cast<int>(m.integer("blocks", 5, 2, 1000));
+    if (s.blocks > static_cast<int>(s.samples_per_rate * s.window_fraction))
+        m.fail("blocks", "more blocks than samples in the window (" +
+                             std::to_string(static_cast<int>(s.samples_per_rate * s.window_fraction)) +
+                             "); use fewer blocks or more samples_per_rate");
+    m.finish();
+}
+
+// The fit block (every key has a default: the block may be left out).
+void read_fit_block(SceneNode f, ShearSpec& s) {
+    s.bingham_min_rate = f.quantity("bingham_min_rate", units::frequency, 200.0, Bounds::non_negative());
+    f.finish();
+}
+
+// The output block (every key has a default: the block may be left out).
+void read_output_block(SceneNode o, ShearSpec& s) {
+    s.output_directory = o.text("directory", "out/shear");
+    s.progress_interval = o.quantity("progress_interval", units::time, 5.0, Bounds::positive());
+    s.checkpoint_every_seconds = o.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
+    o.finish();
+}
+
+// How full the cell is: a monolayer by area, a 3D cell by volume.
+void read_fill_fraction(SceneNode& root, ShearSpec& s) {
+    if (s.monolayer) {
+        if (root.has("volume_fraction"))
+            root.fail("volume_fraction",
+                      "a monolayer is filled by area: give \"area_fraction\" (default 0.5, at most 0.84) instead");
+        s.area_fraction = root.number("area_fraction", 0.5, Bounds::open_closed(0.0, 1.0));
+        if (s.area_fraction > kRandomClosePackingDiscs)
+            root.fail("area_fraction",
+                      "discs cannot be packed at random above 0.84 of the plane (random close packing); lower it");
+    } else {
+        if (root.has("area_fraction"))
+            root.fail(
+                "area_fraction",
+                "is used only for a monolayer (\"cell\": {\"monolayer\": true}); a 3D cell takes \"volume_fraction\"");
+        s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
+    }
+}
+
+// The grains' material, and the scaling of its modulus and density that buys a longer step.
+void read_material_and_scaling(SceneNode& root, const nlohmann::json& input, const ShearTier& tier, ShearSpec& s) {
+    SceneNode mat = root.object("material");
+    const double youngs = mat.quantity("youngs_modulus", units::pressure, std::nullopt, youngs_modulus_range());
+    const double density = mat.quantity("density", units::density, std::nullopt, density_range());
+    // The other material keys go to the engine's reader, which checks them (its refusals are
+    // mapped back to /material/...); the echo keeps them as written.
+    nlohmann::json echo = input.at("material");
+    echo["youngs_modulus"] = youngs;
+    echo["density"] = density;
+    s.resolved["material"] = echo;
+    s.material = echo;
+    s.material["name"] = "grain";
+    read_optional_block(root, "scaling", s.resolved, [&](SceneNode sc) {
+        s.stiffness_scale = sc.number("stiffness", tier.stiffness_scale, Bounds::open_closed(0.0, 1.0));
+        s.density_scale = sc.number("density", tier.density_scale, Bounds::closed(1.0, 1e4));
+        // The scaled constants go to the engine, which holds them to the same ranges: say so here,
+        // where the scale that took them out was given.
+        if (!youngs_modulus_range().contains(youngs * s.stiffness_scale))
+            sc.fail("stiffness", "scales the modulus to " + format_number(youngs * s.stiffness_scale) +
+                                     " Pa, below the engine's floor (" + youngs_modulus_range().describe() +
+                                     "); scale it less or start from a stiffer material");
+        if (!density_range().contains(density * s.density_scale))
+            sc.fail("density", "scales the density to " + format_number(density * s.density_scale) +
+                                   " kg/m3, past the engine's range (" + density_range().describe() +
+                                   "); scale it less");
+        sc.finish();
+        s.material["youngs_modulus"] = youngs * s.stiffness_scale;
+        s.material["density"] = density * s.density_scale;
+    });
+}
+
+// The applied field: its flux density and direction.
+void read_field_block(SceneNode f, ShearSpec& s) {
+    s.flux_density = f.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
+    check_applied_flux_density(f, "flux_density", s.flux_density);
+    const Vec3 dir = f.vector("direction", units::dimensionless, Vec3{0, 0, 1});
+    if (norm(dir) == 0) f.fail("direction", "must be a non-zero vector (the source's field is along z, [0, 0, 1])");
+    s.field_direction = dir / norm(dir);
+    // The dipoles of a monolayer must lie in its plane, or they would pull grains out of it.
+    if (s.monolayer && std::abs(s.field_direction.y) > 1e-12)
+        f.fail("direction", "a monolayer lies in the x-z plane: the field must too (y component 0, e.g. [0, 0, 1])");
+    f.finish();
+    f.finish();
+}
+
+// The field sweep: the stress at one rate over a list of fields.
+void read_field_sweep(SceneNode sw, ShearSpec& s) {
+    s.sweep_fields = sw.quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
+    if (s.sweep_fields.empty())
+        sw.fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
+    for (std::size_t k = 0; k < s.sweep_fields.size(); ++k)
+        check_applied_flux_density(sw, "flux_densities/" + std::to_string(k), s.sweep_fields[k]);
+    s.sweep_rate = sw.quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
+    s.sweep_strain = sw.number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
+    sw.finish();
+}
+
+// The experiment to plot and compare against: a yield stress, a flow curve.
+void read_experiment(SceneNode ex, ShearSpec& s) {
+    s.experiment = nlohmann::json::object();
+    s.experiment["label"] = ex.text("label", "experiment");
+    if (ex.has("yield_stress"))
+        s.experiment["yield_stress_Pa"] =
+            ex.quantity("yield_stress", units::pressure, std::nullopt, Bounds::positive());
+    if (ex.has("flow_curve")) {
+        const auto& fc = ex.raw("flow_curve");
+        if (!fc.is_array()) ex.fail("flow_curve", "must be a list of [shear rate in 1/s, stress in Pa] pairs");
+        for (std::size_t k = 0; k < fc.size(); ++k)
+            if (!fc[k].is_array() || fc[k].size() != 2 || !fc[k][0].is_number() || !fc[k][1].is_number())
+                throw SceneError(ex.path_of("flow_curve") + "/" + std::to_string(k),
+                                 "must be [shear rate in 1/s, stress in Pa]");
+        s.experiment["flow_curve"] = fc;
+    }
+    if (ex.has("other_yield_stresses")) s.experiment["other_yield_stresses"] = ex.raw("other_yield_stresses");
+    ex.finish();
+}
+
 }  // namespace
 
 ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_name) {
@@ -114,92 +365,11 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     // Sizes first: a monolayer's default thickness is the largest diameter.
     SizeDistribution sizes = read_sizes(root.object("size"), s.size_table);
     s.largest_diameter = sizes.max_diameter();
-    {
-        json in = json::object();
-        auto given = root.optional_object("cell");
-        SceneNode cell = given ? *given : SceneNode(in, s.resolved["cell"], "/cell");
-        // A monolayer: one layer of grains with centres in the x-z plane (shear and gradient),
-        // `size` y its thickness for the stress, by default the largest diameter.
-        s.monolayer = cell.boolean("monolayer", false);
-        const double thickness = s.monolayer ? s.largest_diameter : tier.cell_size;
-        s.cell =
-            cell.vector("size", units::length, Vec3{tier.cell_size, thickness, tier.cell_size}, Bounds::positive());
-        if (s.monolayer && s.cell.y < s.largest_diameter)
-            cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
-                                  fmt_um(s.largest_diameter) +
-                                  "); it is the thickness the stress is divided by, usually the largest diameter");
-        s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
-        if (s.lees_edwards) {
-            if (cell.has("raft_thickness"))
-                cell.fail("raft_thickness",
-                          "is used only with \"boundaries\": \"rafts\"; a Lees-Edwards cell has no rafts "
-                          "(remove raft_thickness or use rafts)");
-            s.raft_thickness = 0;
-        } else {
-            s.raft_thickness =
-                cell.quantity("raft_thickness", units::length, std::min(15e-6, 0.125 * s.cell.z), Bounds::positive());
-        }
-        if (!(s.gap() > 0))
-            cell.fail("raft_thickness", "the two rafts (" + fmt_um(s.raft_thickness) +
-                                            " each) leave no gap in a cell " + fmt_um(s.cell.z) +
-                                            " high; thin the rafts or raise the cell");
-        cell.finish();
-    }
-    if (s.monolayer) {
-        if (root.has("volume_fraction"))
-            root.fail("volume_fraction",
-                      "a monolayer is filled by area: give \"area_fraction\" (default 0.5, at most 0.84) instead");
-        s.area_fraction = root.number("area_fraction", 0.5, Bounds::open_closed(0.0, 1.0));
-        if (s.area_fraction > kRandomClosePackingDiscs)
-            root.fail("area_fraction",
-                      "discs cannot be packed at random above 0.84 of the plane (random close packing); lower it");
-    } else {
-        if (root.has("area_fraction"))
-            root.fail(
-                "area_fraction",
-                "is used only for a monolayer (\"cell\": {\"monolayer\": true}); a 3D cell takes \"volume_fraction\"");
-        s.volume_fraction = root.number("volume_fraction", 0.3, Bounds::open_closed(0.0, 0.64));
-    }
+    read_optional_block(root, "cell", s.resolved, [&](SceneNode n) { read_cell_block(n, tier, s); });
+    read_fill_fraction(root, s);
 
-    {
-        SceneNode mat = root.object("material");
-        const double youngs = mat.quantity("youngs_modulus", units::pressure, std::nullopt, youngs_modulus_range());
-        const double density = mat.quantity("density", units::density, std::nullopt, density_range());
-        // The other material keys go to the engine's reader, which checks them (its refusals are
-        // mapped back to /material/...); the echo keeps them as written.
-        nlohmann::json echo = input.at("material");
-        echo["youngs_modulus"] = youngs;
-        echo["density"] = density;
-        s.resolved["material"] = echo;
-        s.material = echo;
-        s.material["name"] = "grain";
-        json scaling_in = json::object();
-        auto scaling = root.optional_object("scaling");
-        SceneNode sc = scaling ? *scaling : SceneNode(scaling_in, s.resolved["scaling"], "/scaling");
-        s.stiffness_scale = sc.number("stiffness", tier.stiffness_scale, Bounds::open_closed(0.0, 1.0));
-        s.density_scale = sc.number("density", tier.density_scale, Bounds::closed(1.0, 1e4));
-        // The scaled constants go to the engine, which holds them to the same ranges: say so here,
-        // where the scale that took them out was given.
-        if (!youngs_modulus_range().contains(youngs * s.stiffness_scale))
-            sc.fail("stiffness", "scales the modulus to " + format_number(youngs * s.stiffness_scale) +
-                                     " Pa, below the engine's floor (" + youngs_modulus_range().describe() +
-                                     "); scale it less or start from a stiffer material");
-        if (!density_range().contains(density * s.density_scale))
-            sc.fail("density", "scales the density to " + format_number(density * s.density_scale) +
-                                   " kg/m3, past the engine's range (" + density_range().describe() +
-                                   "); scale it less");
-        sc.finish();
-        s.material["youngs_modulus"] = youngs * s.stiffness_scale;
-        s.material["density"] = density * s.density_scale;
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("contact");
-        SceneNode c = given ? *given : SceneNode(in, s.resolved["contact"], "/contact");
-        s.rolling = c.choice("rolling", {"none", "epsd", "sds"}, "epsd");
-        s.cohesion = c.choice("cohesion", {"none", "sjkr", "dmt"}, "sjkr");
-        c.finish();
-    }
+    read_material_and_scaling(root, input, tier, s);
+    read_optional_block(root, "contact", s.resolved, [&](SceneNode n) { read_contact_block(n, s); });
     {
         SceneNode f = root.object("fluid");
         s.viscosity = f.quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
@@ -214,163 +384,16 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
                                           3.0 * M_PI * s.viscosity * sizes.mean_diameter_number(), Bounds::positive());
     else if (root.has("contact_damping"))
         root.fail("contact_damping", "is used only with \"dissipation\": \"contact_damping\"");
-    {
-        SceneNode f = root.object("field");
-        s.flux_density = f.quantity("flux_density", units::magnetic_flux_density, std::nullopt, Bounds::non_negative());
-        check_applied_flux_density(f, "flux_density", s.flux_density);
-        const Vec3 dir = f.vector("direction", units::dimensionless, Vec3{0, 0, 1});
-        if (norm(dir) == 0) f.fail("direction", "must be a non-zero vector (the source's field is along z, [0, 0, 1])");
-        s.field_direction = dir / norm(dir);
-        // The dipoles of a monolayer must lie in its plane, or they would pull grains out of it.
-        if (s.monolayer && std::abs(s.field_direction.y) > 1e-12)
-            f.fail("direction",
-                   "a monolayer lies in the x-z plane: the field must too (y component 0, e.g. [0, 0, 1])");
-        f.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("magnetic");
-        SceneNode m = given ? *given : SceneNode(in, s.resolved["magnetic"], "/magnetic");
-        s.magnetic = nlohmann::json::object();
-        s.magnetic["mutual"] = m.choice("mutual", {"fixed", "lagged", "iterations", "converged"}, "lagged");
-        if (m.has("cutoff"))
-            s.magnetic["cutoff"] = m.raw("cutoff");
-        else
-            m.resolved_child("cutoff") = s.magnetic["cutoff"] = {{"beyond_contact", tier.magnetic_beyond_contact}};
-        for (const char* k : {"iterations", "tolerance", "max_iterations"})
-            if (m.has(k)) s.magnetic[k] = m.raw(k);
-        // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
-        // "none": the linear law of eq. 2.4 without a cap, the source's chapter-2 model.
-        s.saturation = m.choice("saturation", {"material", "none"}, "material");
-        m.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("run");
-        SceneNode r = given ? *given : SceneNode(in, s.resolved["run"], "/run");
-        s.run = nlohmann::json::object();
-        s.run["timestep_safety"] = r.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, 0.2));
-        s.run["characteristic_speed"] = r.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
-        // Magnetic attraction pulls small grains onto large ones at tens of m/s (drag is the only
-        // brake): with the source's soft modulus (1 GPa) an impact overlaps a small grain by
-        // 30-40% of its radius, resolved in ~40 steps - physics of the chosen modulus, not a
-        // numerical blow-up (docs/shear.md), so the guard sits at 0.6 rather than run's 0.1.
-        s.run["max_overlap_fraction"] = r.number("max_overlap_fraction", 0.6, Bounds::open(0.0, 1.0));
-        if (r.has("timestep")) s.run["timestep"] = r.raw("timestep");
-        r.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("magnetise");
-        SceneNode m = given ? *given : SceneNode(in, s.resolved["magnetise"], "/magnetise");
-        s.magnetise_check_every = m.quantity("check_every", units::time, 1e-6, Bounds::positive());
-        s.magnetise_window = static_cast<int>(m.integer("window", 5, 2, 1000));
-        s.magnetise_tolerance = m.number("tolerance", 0.02, Bounds::open(0.0, 1.0));
-        s.magnetise_min = m.quantity("min_duration", units::time, 10e-6, Bounds::non_negative());
-        // A field switched on at once pulls small grains onto large ones at tens of m/s (Stokes
-        // drag is the only brake), overlapping them by 40% of their radius with the source's soft
-        // modulus. Raising it over a few microseconds, as any real magnet does over far longer,
-        // lets the first chains form gently; the settled structure is what is sheared.
-        s.field_ramp = m.quantity("field_ramp", units::time, 5e-6, Bounds::non_negative());
-        s.magnetise_max = m.quantity("max_duration", units::time, tier.magnetise_max, Bounds::positive());
-        if (s.magnetise_max < s.magnetise_min) m.fail("max_duration", "must not be shorter than min_duration");
-        // Sheared before the ramp ends, the cell would be measured in a field still rising.
-        if (s.field_ramp > s.magnetise_min)
-            m.fail(m.has("field_ramp") ? "field_ramp" : "min_duration",
-                   "the field ramps up over field_ramp (" + format_number(s.field_ramp * 1e6) +
-                       " us) and the chains must settle in "
-                       "the full field: make min_duration at least field_ramp");
-        m.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("ladder");
-        SceneNode l = given ? *given : SceneNode(in, s.resolved["ladder"], "/ladder");
-        if (l.has("wall_speeds") && l.has("shear_rates"))
-            l.fail("shear_rates", "give either 'wall_speeds' or 'shear_rates', not both");
-        if (l.has("wall_speeds")) {
-            s.wall_speeds = decreasing_list(l, "wall_speeds", units::velocity);
-            // The rafts move at +v and -v: the rate across the gap is 2 v / gap.
-            for (double v : s.wall_speeds) s.rates.push_back(2 * v / s.gap());
-        } else {
-            if (l.has("shear_rates")) {
-                s.rates = decreasing_list(l, "shear_rates", units::frequency);
-            } else {
-                // The source's ladder: wall speeds 0.128 ... 0.001 m/s across its 220 um gap
-                // (sec. 2.4.2), kept as rates so a smaller cell shears at the same rates.
-                for (double v : {0.128, 0.064, 0.032, 0.011, 0.008, 0.004, 0.002, 0.001})
-                    s.rates.push_back(2 * v / 220e-6);
-                l.resolved_child("shear_rates") = s.rates;
-            }
-            for (double g : s.rates) s.wall_speeds.push_back(0.5 * g * s.gap());
-        }
-        if (l.has("steps_first") || l.has("steps_per_rate")) {
-            s.steps_first = l.integer("steps_first", std::nullopt, 1);
-            s.steps_per_rate = l.integer("steps_per_rate", std::nullopt, 1);
-        } else {
-            s.strain_first = l.number("strain_first", tier.strain_first, Bounds::positive());
-            s.strain_per_rate = l.number("strain_per_rate", tier.strain_per_rate, Bounds::positive());
-        }
-        l.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("measure");
-        SceneNode m = given ? *given : SceneNode(in, s.resolved["measure"], "/measure");
-        s.samples_per_rate = static_cast<int>(m.integer("samples_per_rate", 40, 4, 100000));
-        s.window_fraction = m.number("window", 0.5, Bounds::open_closed(0.0, 1.0));
-        // One block gives no spread to put an error bar on.
-        s.blocks = static_cast<int>(m.integer("blocks", 5, 2, 1000));
-        if (s.blocks > static_cast<int>(s.samples_per_rate * s.window_fraction))
-            m.fail("blocks", "more blocks than samples in the window (" +
-                                 std::to_string(static_cast<int>(s.samples_per_rate * s.window_fraction)) +
-                                 "); use fewer blocks or more samples_per_rate");
-        m.finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("fit");
-        SceneNode f = given ? *given : SceneNode(in, s.resolved["fit"], "/fit");
-        s.bingham_min_rate = f.quantity("bingham_min_rate", units::frequency, 200.0, Bounds::non_negative());
-        f.finish();
-    }
-    if (auto sw = root.optional_object("field_sweep")) {
-        s.sweep_fields = sw->quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
-        if (s.sweep_fields.empty())
-            sw->fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
-        for (std::size_t k = 0; k < s.sweep_fields.size(); ++k)
-            check_applied_flux_density(*sw, "flux_densities/" + std::to_string(k), s.sweep_fields[k]);
-        s.sweep_rate = sw->quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
-        s.sweep_strain = sw->number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
-        sw->finish();
-    }
-    if (auto ex = root.optional_object("experiment")) {
-        s.experiment = nlohmann::json::object();
-        s.experiment["label"] = ex->text("label", "experiment");
-        if (ex->has("yield_stress"))
-            s.experiment["yield_stress_Pa"] =
-                ex->quantity("yield_stress", units::pressure, std::nullopt, Bounds::positive());
-        if (ex->has("flow_curve")) {
-            const auto& fc = ex->raw("flow_curve");
-            if (!fc.is_array()) ex->fail("flow_curve", "must be a list of [shear rate in 1/s, stress in Pa] pairs");
-            for (std::size_t k = 0; k < fc.size(); ++k)
-                if (!fc[k].is_array() || fc[k].size() != 2 || !fc[k][0].is_number() || !fc[k][1].is_number())
-                    throw SceneError(ex->path_of("flow_curve") + "/" + std::to_string(k),
-                                     "must be [shear rate in 1/s, stress in Pa]");
-            s.experiment["flow_curve"] = fc;
-        }
-        if (ex->has("other_yield_stresses")) s.experiment["other_yield_stresses"] = ex->raw("other_yield_stresses");
-        ex->finish();
-    }
-    {
-        json in = json::object();
-        auto given = root.optional_object("output");
-        SceneNode o = given ? *given : SceneNode(in, s.resolved["output"], "/output");
-        s.output_directory = o.text("directory", "out/shear");
-        s.progress_interval = o.quantity("progress_interval", units::time, 5.0, Bounds::positive());
-        s.checkpoint_every_seconds = o.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
-        o.finish();
-    }
+    read_field_block(root.object("field"), s);
+    read_optional_block(root, "magnetic", s.resolved, [&](SceneNode n) { read_magnetic_block(n, tier, s); });
+    read_optional_block(root, "run", s.resolved, [&](SceneNode n) { read_run_block(n, tier, s); });
+    read_optional_block(root, "magnetise", s.resolved, [&](SceneNode n) { read_magnetise_block(n, tier, s); });
+    read_optional_block(root, "ladder", s.resolved, [&](SceneNode n) { read_ladder_block(n, tier, s); });
+    read_optional_block(root, "measure", s.resolved, [&](SceneNode n) { read_measure_block(n, s); });
+    read_optional_block(root, "fit", s.resolved, [&](SceneNode n) { read_fit_block(n, s); });
+    if (auto sw = root.optional_object("field_sweep")) read_field_sweep(*sw, s);
+    if (auto ex = root.optional_object("experiment")) read_experiment(*ex, s);
+    read_optional_block(root, "output", s.resolved, [&](SceneNode n) { read_output_block(n, s); });
     root.finish();
     return s;
 }

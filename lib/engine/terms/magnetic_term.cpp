@@ -2,8 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/binary_io.hpp"
 #include "grain_removal.hpp"
-#include "io/binary_io.hpp"
 #include "system.hpp"
 
 namespace mrjam {

@@ -1,6 +1,6 @@
 #include "force_term.hpp"
 
-#include "io/binary_io.hpp"
+#include "core/binary_io.hpp"
 
 namespace mrjam {
 

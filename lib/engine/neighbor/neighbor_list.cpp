@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/binary_io.hpp"
+#include "core/binary_io.hpp"
 
 namespace mrjam {
 namespace {

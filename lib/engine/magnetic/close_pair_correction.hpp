@@ -2,7 +2,7 @@
 // The two-body correction for close magnetic pairs. Point dipoles (the mutual dipole method the
 // engine and the source use) miss the field crowding into the gap of two nearly touching grains:
 // for iron (mu_r 1000) the exact attraction of an axial pair is 2.8 times the dipoles' at a gap of
-// 0.1 radii and 14 times at 0.01 (`mrjam bench sphere-pair`). The correction adds, for each pair
+// 0.1 radii and 14 times at 0.01 (`mrjam-bench sphere-pair`). The correction adds, for each pair
 // closer than `range`, the exact two-sphere force minus the converged two-dipole force, both for
 // the pair alone in the field it sits in (the applied field plus every other neighbour's
 // dipoles: the many-body part stays with the dipoles), as in the two-body corrections of

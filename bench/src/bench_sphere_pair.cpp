@@ -1,15 +1,15 @@
-// `mrjam bench sphere-pair`: how far the point-dipole (mutual dipole) model the engine uses is
+// `mrjam-bench sphere-pair`: how far the point-dipole (mutual dipole) model the engine uses is
 // from the exact force between two equal magnetisable spheres, as their gap closes. Not a
 // timing: a table of the model's error (docs/magnetic_forces.md, "Close pairs"), from the exact
-// multipole solution in lib/magnetic/sphere_pair_exact.
+// multipole solution in lib/engine/magnetic/sphere_pair_exact.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "bench_commands.hpp"
 #include "cli_common.hpp"
-#include "commands.hpp"
 #include "magnetic/sphere_pair_exact.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_parts.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // The force terms a scene switches on, as a list the force pass walks (HOOMD-blue's force
 // computes; LAMMPS's pair styles and fixes that add forces). The contact law is not in the list:
-// it is the pass itself, a templated pair loop (lib/forces.cpp) with no virtual call per pair.
+// it is the pass itself, a templated pair loop (lib/engine/forces.cpp) with no virtual call per pair.
 // Every other piece of physics is a ForceTerm that owns its settings, its held values and its
 // checkpoint state, so a new term is one class and one line where the scene builds it
 // (docs/engine.md walks through one).

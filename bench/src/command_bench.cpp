@@ -1,14 +1,14 @@
-// `mrjam bench contact`: the contact-engine benchmark. A fixed granular scene (monodisperse
+// `mrjam-bench contact`: the contact-engine benchmark. A fixed granular scene (monodisperse
 // Hertz-Mindlin grains with friction at volume fraction 0.5 in a periodic box) timed over a
 // fixed number of steps; prints grain-steps per second and core-microseconds per grain-step.
 // bench/contact_vs_liggghts.sh runs the same state in LIGGGHTS for the side-by-side figure.
 //
-// `mrjam bench restitution`: the accuracy of the time step. Head-on collisions of two equal
+// `mrjam-bench restitution`: the accuracy of the time step. Head-on collisions of two equal
 // grains at a range of steps per contact, measuring the restitution the integrator realises
 // against the set e and the undamped contact duration against Hertz; then what the automatic
 // step costs for the same pair. docs/accuracy.md shows and explains the table.
 //
-// `mrjam bench magnetic` and `bench magnetic-accuracy` live in bench_magnetic.cpp
+// `mrjam-bench magnetic` and `mrjam-bench magnetic-accuracy` live in bench_magnetic.cpp
 // (docs/magnetic_forces.md).
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_commands.hpp"
 #include "cli_common.hpp"
-#include "commands.hpp"
 #include "contact/restitution.hpp"
 #include "integrator.hpp"
 #include "io/lammps_data.hpp"
@@ -371,11 +371,9 @@ void run_restitution_bench(const std::string& json_out) {
 
 }  // namespace
 
-void add_bench_command(CLI::App& app, int& exit_status) {
-    CLI::App* bench = app.add_subcommand("bench", "Benchmarks (timing, not tests)");
-    bench->require_subcommand(1);
+void add_bench_commands(CLI::App& bench, int& exit_status) {
     auto args = std::make_shared<BenchArgs>();
-    CLI::App* contact = bench->add_subcommand("contact", "Hertz-Mindlin contact engine: grain-steps per second");
+    CLI::App* contact = bench.add_subcommand("contact", "Hertz-Mindlin contact engine: grain-steps per second");
     contact->add_option("--grains", args->grains, "Number of grains")
         ->check(CLI::Range(11L, 10000000L))
         ->capture_default_str();
@@ -434,7 +432,7 @@ void add_bench_command(CLI::App& app, int& exit_status) {
     });
 
     auto restitution_json = std::make_shared<std::string>();
-    CLI::App* restitution = bench->add_subcommand(
+    CLI::App* restitution = bench.add_subcommand(
         "restitution", "Accuracy of the time step: realised restitution and contact duration vs steps per contact");
     restitution->add_option("--json", *restitution_json, "Write the figures as JSON here");
     restitution->callback([restitution_json, &exit_status] {
@@ -443,9 +441,9 @@ void add_bench_command(CLI::App& app, int& exit_status) {
         exit_status = 0;
     });
 
-    add_magnetic_bench_commands(*bench, exit_status);
-    add_flow_bench_command(*bench, exit_status);
-    add_sphere_pair_bench_command(*bench, exit_status);
+    add_magnetic_bench_commands(bench, exit_status);
+    add_flow_bench_command(bench, exit_status);
+    add_sphere_pair_bench_command(bench, exit_status);
 }
 
 }  // namespace mrjam::cli

@@ -1,9 +1,9 @@
-// `mrjam bench magnetic`: the cost of a chain-forming magnetorheological scene (the issue's
+// `mrjam-bench magnetic`: the cost of a chain-forming magnetorheological scene (the issue's
 // scene: 1,905 monodisperse 6.7 um iron grains at volume fraction 0.3 in a 100 um box, 600 mT
 // along z, lagged mutual dipoles, magnetic range 8 um beyond contact). Chains form first
 // (untimed), then a fixed number of steps is timed; prints core-microseconds per grain-step.
 //
-// `mrjam bench magnetic-accuracy`: the speed/accuracy trade of the mutual-dipole policy and the
+// `mrjam-bench magnetic-accuracy`: the speed/accuracy trade of the mutual-dipole policy and the
 // magnetic cutoff. Chains form once in a polydisperse scene; from that saved state each setting
 // is (a) evaluated once at the same configuration and (b) stepped on for K steps, and its mean
 // magnetic force per grain and magnetic virial stress are compared against the converged policy
@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_commands.hpp"
 #include "cli_common.hpp"
-#include "commands.hpp"
 #include "geometry/size_distribution.hpp"
 #include "integrator.hpp"
 #include "magnetic/magnetic_model.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 // Axial flow through one slice of a tube holding grains (the coupled carrier flow,
-// lib/fluid/coupled_valve_flow.hpp): the radial Brinkman equation
+// lib/engine/fluid/coupled_valve_flow.hpp): the radial Brinkman equation
 //     -mu (1/r) d/dr (r du/dr) + beta(r) (u - v(r)) = G,   du/dr = 0 at r = 0,  u = 0 at r = R,
 // where G is the pressure gradient driving the fluid (-dp/dz), beta the grains' drag coefficient
 // per unit volume (sum of 6 pi mu a f over the grains in a ring, over its volume) and v their

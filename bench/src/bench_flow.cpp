@@ -1,4 +1,4 @@
-// `mrjam bench flow`: what the valve's carrier-flow models cost per grain. The engine asks the
+// `mrjam-bench flow`: what the valve's carrier-flow models cost per grain. The engine asks the
 // flow for a velocity and a drag factor once per grain per step, and the coupled flow's
 // controller bins all grains and solves its slices at every observation (50 steps by default),
 // so the figures are ns per drag_at call (velocity and drag factor) and ns per grain per update, at points
@@ -9,8 +9,8 @@
 #include <memory>
 #include <random>
 
+#include "bench_commands.hpp"
 #include "cli_common.hpp"
-#include "commands.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/coupled_flow.hpp"
 #include "run/runner.hpp"

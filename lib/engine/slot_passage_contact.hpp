@@ -13,7 +13,7 @@
 // meeting the bore; the bore meeting a tapered face): a sphere can press on two or three pieces
 // at once. Given its radius, the other pieces it reaches on a face (not at an edge or the lip,
 // which the nearest piece's contact already is) are listed too, so that the wall pushes it out
-// of each, as the circular passage does (lib/walls.cpp).
+// of each, as the circular passage does (lib/engine/walls.cpp).
 #include <array>
 
 #include "core/vec3.hpp"

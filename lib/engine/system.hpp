@@ -17,7 +17,7 @@
 namespace mrjam {
 
 // The contact law the force pass runs (the templated pair loop). Every other piece of physics is
-// a ForceTerm in System::terms (lib/force_term.hpp): only what the scene names is built.
+// a ForceTerm in System::terms (lib/engine/force_term.hpp): only what the scene names is built.
 struct PhysicsSettings {
     bool contact = true;
     RollingModel rolling = RollingModel::none;
@@ -53,7 +53,7 @@ struct System {
     NeighborList contacts;
     ContactStats contact_stats;
     MagneticModel magnetic;  // off unless the scene has a "magnetic" block (then a MagneticTerm adds its forces)
-    ForceTerms terms;        // the force terms besides contact, in the order they add (lib/force_term.hpp)
+    ForceTerms terms;        // the force terms besides contact, in the order they add (lib/engine/force_term.hpp)
 
     double time = 0;
     long step = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // The magnetic dipoles as a force term: induced and permanent moments, pair forces and torques,
-// the applied field's gradient force and the close-pair correction (lib/magnetic/). The model's
+// the applied field's gradient force and the close-pair correction (lib/engine/magnetic/). The model's
 // state stays in System::magnetic, where the neighbour rebuild keeps its pair list; this term
 // adds its forces in the list's order and owns what a checkpoint must carry of it.
 #include "force_term.hpp"
