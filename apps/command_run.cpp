@@ -69,9 +69,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
             }
             build.insert_grains = false;
             scene = build_scene(header.resolved_scene, build);
-            restore_state(args->resume, scene.system);
-            choose_timestep(scene);
-            restore_state(args->resume, scene.system);  // the list and step from the checkpoint win
+            restore_scene(args->resume, scene);
             start = header.position;
             resumed_stage_log = header.history;
             std::cerr << "[run] resuming from " << args->resume << " at step " << scene.system.step << "\n";

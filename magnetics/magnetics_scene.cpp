@@ -4,29 +4,26 @@
 
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
+#include "scene/tier.hpp"
 
 namespace mrjam::magnetics {
 
-std::vector<std::string> magnetics_tier_names() { return {"quick", "standard", "paper"}; }
+std::vector<std::string> magnetics_tier_names() { return tier_names(); }
 
 FieldModel tier_field_model(const std::string& tier) {
-    return tier == "quick" ? FieldModel::planar_2d : FieldModel::full_3d;
+    return PerTier<FieldModel>{FieldModel::planar_2d, FieldModel::full_3d, FieldModel::full_3d}[tier_from_name(tier)];
 }
 
 // Measured in docs/magnetics.md: the active-fluid mean moves by 0.1% from (0.24, 0.6) mm to
 // (0.12, 0.3) mm elements, so the standard tier uses the coarse pair and answers in seconds.
 MeshSettings tier_mesh(const std::string& tier) {
-    MeshSettings m;  // standard 3D
-    if (tier == "quick") {
-        m.fluid_size = 0.05e-3;
-        m.device_size = 0.1e-3;
-        m.far_size = 2e-3;
-    }  // 2D: cheap
-    if (tier == "paper") {
-        m.fluid_size = 0.1e-3;
-        m.device_size = 0.25e-3;
-    }
-    return m;
+    PerTier<MeshSettings> table;       // standard: the defaults, 3D
+    table.quick.fluid_size = 0.05e-3;  // 2D: cheap
+    table.quick.device_size = 0.1e-3;
+    table.quick.far_size = 2e-3;
+    table.paper.fluid_size = 0.1e-3;
+    table.paper.device_size = 0.25e-3;
+    return table[tier_from_name(tier)];
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/binary_io.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
@@ -220,6 +221,12 @@ void restore_state(const std::string& path, System& s) {
         }
         check_read_to_end(in, path);
     });
+}
+
+void restore_scene(const std::string& path, Scene& scene) {
+    restore_state(path, scene.system);
+    choose_timestep(scene);
+    restore_state(path, scene.system);
 }
 
 }  // namespace mrjam

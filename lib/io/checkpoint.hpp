@@ -8,6 +8,8 @@
 
 namespace mrjam {
 
+struct Scene;
+
 struct ProtocolPosition {
     std::size_t stage = 0;       // index of the stage in progress
     long step_in_stage = 0;      // steps of it already done
@@ -30,5 +32,11 @@ struct CheckpointHeader {
 // SceneError("--resume", ...) naming the file when it cannot be read.
 CheckpointHeader read_checkpoint_header(const std::string& path);
 void restore_state(const std::string& path, System& system);
+
+// The resume sequence every mode shares: into a scene built from the checkpoint's resolved scene
+// without grains, the saved state; then the time step chosen for those grains; then the saved
+// state again, since choosing the step rebuilds the neighbour lists and the checkpoint's lists
+// and step must win for the run to go on bit for bit.
+void restore_scene(const std::string& path, Scene& scene);
 
 }  // namespace mrjam

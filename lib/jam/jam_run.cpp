@@ -71,14 +71,14 @@ Scene build_jam_scene(const JamScene& js, long long seed, const JamRunOptions& o
         coupled = make_coupled_flow(js, carrier_viscosity(scene.system));
         scene.system.flow = coupled->field();
     }
-    if (checkpoint) restore_state(options.resume_checkpoint, scene.system);
     try {
-        choose_timestep(scene);
+        if (checkpoint)
+            restore_scene(options.resume_checkpoint, scene);
+        else
+            choose_timestep(scene);
     } catch (const SceneError& e) {
         throw as_jam_key(e, js.protocol);
     }
-    // The list and step from the checkpoint win over those the time step's choice rebuilt.
-    if (checkpoint) restore_state(options.resume_checkpoint, scene.system);
     return scene;
 }
 

@@ -18,10 +18,15 @@
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/scene_parts.hpp"
+#include "scene/tier.hpp"
 
 namespace mrjam {
 
-std::vector<std::string> jam_tier_names() { return {"quick", "standard", "paper", "continuum"}; }
+std::vector<std::string> jam_tier_names() {
+    std::vector<std::string> names = tier_names();
+    names.emplace_back("continuum");  // no grains: a Bingham plug (lib/jam/continuum_tier.hpp)
+    return names;
+}
 
 namespace {
 
@@ -47,10 +52,12 @@ struct TierSettings {
 // same outcomes over three seeds each (docs/notes/jam_measurements.md, "Held magnetic forces"). It holds the
 // carrier-flow lookups 4 steps too: 8 % faster on the 10 um mix, the same outcomes on the 44 um
 // cases over three seeds (docs/notes/jam_measurements.md, "Held carrier-flow lookups").
-TierSettings tier_settings(const std::string& tier) {
-    if (tier == "quick") return {3.0, 1.0e-3, 0.5e-3, 4, 4};
-    if (tier == "paper") return {0.0, 2.0e-3, 1.0e-3, 1, 1};  // the full bore
-    return {6.0, 1.5e-3, 0.75e-3, 1, 1};
+const PerTier<TierSettings> kTable = {
+    {3.0, 1.0e-3, 0.5e-3, 4, 4}, {6.0, 1.5e-3, 0.75e-3, 1, 1}, {0.0, 2.0e-3, 1.0e-3, 1, 1},  // paper: the full bore
+};
+// The continuum tier has no grains; its scene is read with the standard tier's model sizes.
+const TierSettings& tier_settings(const std::string& tier) {
+    return kTable[tier == "continuum" ? Tier::standard : tier_from_name(tier)];
 }
 
 // A number in SI or a string with units, in a table the scene reader passes through raw.

@@ -1,5 +1,7 @@
 #include "scene/fidelity.hpp"
 
+#include "scene/tier.hpp"
+
 namespace mrjam {
 namespace {
 
@@ -9,30 +11,17 @@ namespace {
 // passes per step, so every tier is lagged; the cutoff sets the error: 2 d -0.55%, 3 d -0.14%,
 // 5 d +0.014%, at about 17, 60 and 280 neighbours per grain. Time step (docs/accuracy.md): the
 // restitution error is proportional to the step; the paper tier halves the standard step.
-const std::vector<FidelityTier>& tiers() {
-    static const std::vector<FidelityTier> all = {
-        {"quick", 0.2, MutualPolicy::lagged, 2.0},
-        {"standard", 0.1, MutualPolicy::lagged, 3.0},
-        {"paper", 0.05, MutualPolicy::lagged, 5.0},
-    };
-    return all;
-}
+const PerTier<FidelityTier> kTable = {
+    {"quick", 0.2, MutualPolicy::lagged, 2.0},
+    {"standard", 0.1, MutualPolicy::lagged, 3.0},
+    {"paper", 0.05, MutualPolicy::lagged, 5.0},
+};
 
 }  // namespace
 
-const FidelityTier& fidelity_tier(const std::string& name) {
-    for (const auto& t : tiers())
-        if (t.name == name) return t;
-    std::string list;
-    for (const auto& t : tiers()) list += (list.empty() ? "" : ", ") + t.name;
-    throw std::invalid_argument("unknown fidelity tier '" + name + "'; expected one of " + list);
-}
+const FidelityTier& fidelity_tier(const std::string& name) { return kTable[tier_from_name(name)]; }
 
-std::vector<std::string> fidelity_tier_names() {
-    std::vector<std::string> names;
-    for (const auto& t : tiers()) names.push_back(t.name);
-    return names;
-}
+std::vector<std::string> fidelity_tier_names() { return tier_names(); }
 
 nlohmann::json describe(const FidelityTier& t) {
     return {{"tier", t.name},

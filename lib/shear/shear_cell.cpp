@@ -118,9 +118,7 @@ public:
         build.threads = options_.threads;
         build.insert_grains = false;
         scene_ = std::make_unique<Scene>(build_scene(header.resolved_scene, build));
-        restore_state(path, scene_->system);
-        choose_timestep(*scene_);
-        restore_state(path, scene_->system);  // the lists and step from the checkpoint win
+        restore_scene(path, *scene_);
         resumed_ = true;
     }
 

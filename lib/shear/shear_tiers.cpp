@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "scene/tier.hpp"
+
 namespace mrjam {
 namespace {
 
@@ -11,31 +13,18 @@ namespace {
 // cell and the strains. Bundled example, one core: quick 47.7 and 49.3 kPa (seeds 1, 2; 105-110 s),
 // standard 42.4 and 55.3 kPa (280-295 s), paper 61.7 kPa (660 s); experiment 44.9 kPa. Seed
 // scatter (13 kPa between the two standard seeds) dominates the differences between tiers.
-const std::vector<ShearTier>& tiers() {
-    static const std::vector<ShearTier> all = {
-        // name      cell     E x   rho x  strain1 strain/rate  mag      safety  magnetise max
-        {"quick", 90e-6, 1.0, 1.0, 0.3, 0.05, 8e-6, 0.1, 40e-6},
-        {"standard", 100e-6, 1.0, 1.0, 0.6, 0.1, 8e-6, 0.1, 60e-6},
-        {"paper", 125e-6, 1.0, 1.0, 0.9, 0.1, 8e-6, 0.1, 60e-6},
-    };
-    return all;
-}
+const PerTier<ShearTier> kTable = {
+    // name      cell     E x   rho x  strain1 strain/rate  mag      safety  magnetise max
+    {"quick", 90e-6, 1.0, 1.0, 0.3, 0.05, 8e-6, 0.1, 40e-6},
+    {"standard", 100e-6, 1.0, 1.0, 0.6, 0.1, 8e-6, 0.1, 60e-6},
+    {"paper", 125e-6, 1.0, 1.0, 0.9, 0.1, 8e-6, 0.1, 60e-6},
+};
 
 }  // namespace
 
-std::vector<std::string> shear_tier_names() {
-    std::vector<std::string> names;
-    for (const auto& t : tiers()) names.push_back(t.name);
-    return names;
-}
+std::vector<std::string> shear_tier_names() { return tier_names(); }
 
-const ShearTier& shear_tier(const std::string& name) {
-    for (const auto& t : tiers())
-        if (t.name == name) return t;
-    std::string list;
-    for (const std::string& n : shear_tier_names()) list += (list.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown fidelity tier '" + name + "'; expected one of " + list);
-}
+const ShearTier& shear_tier(const std::string& name) { return kTable[tier_from_name(name)]; }
 
 nlohmann::json describe(const ShearTier& t) {
     return {{"tier", t.name},
