@@ -16,7 +16,7 @@ void DragTerm::begin_pass(const System& s) {
     if (!hold_.holding()) {
         lookup_ = Lookup::fresh;
         held_.clear();
-    } else if (held_.size() == n && hold_.age < hold_.interval) {
+    } else if (hold_.reuse_now(held_.size(), n)) {
         lookup_ = Lookup::held;
     } else {
         lookup_ = Lookup::fresh_and_hold;
