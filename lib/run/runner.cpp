@@ -154,165 +154,205 @@ void discard_checkpoint(const std::string& path) {
     std::filesystem::remove(path, ignored);
 }
 
-RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
-    System& s = scene.system;
-    const auto t0 = Clock::now();
-    install_interrupt_handler();
-    prepare_output_directory(scene.output.directory, "/output/directory");
-    const std::string checkpoint = checkpoint_path_of(scene);
-    check_checkpoint_path(checkpoint,
-                          scene.output.checkpoint_path.empty() ? "/output/directory" : "/output/checkpoint/path");
+namespace {
 
-    RunOutcome outcome;
-    nlohmann::json& report = outcome.report;
-    report["mrjam_version"] = MRJAM_VERSION;
-    report["mode"] = options.mode;
-    report["scene_file"] = options.scene_path;
-    report["seed"] = scene.seed;
-    report["threads"] = s.threads;
-    report["inputs"] = scene.resolved;
-    report["fidelity"] = scene.fidelity;
-    report["timestep"] = timestep_json(scene);
-    report["warnings"] = scene.warnings;
-    // Said before the run too: one about the step (a drag-limited one) changes how long it takes.
-    if (options.progress)
-        for (const std::string& w : scene.warnings)
-            std::fprintf(stderr, "[%s] warning: %s\n", options.mode.c_str(), w.c_str());
-    nlohmann::json stage_log =
-        options.resumed_stage_log.is_array() ? options.resumed_stage_log : nlohmann::json::array();
+// One call of run_protocol: the stages from a position, with the report, the checkpoints, the
+// snapshots, the progress lines and Ctrl-C handled between chunks of steps.
+class ProtocolRun {
+public:
+    ProtocolRun(Scene& scene, const RunOptions& options, const StepObserver& observer)
+        : scene_(scene), s_(scene.system), options_(options), observer_(observer) {}
 
-    auto history_of = [&](const nlohmann::json& log) {
-        if (!options.checkpoint_state) return log;
-        return nlohmann::json{{"mode", options.mode}, {"stage_log", log}, {"state", options.checkpoint_state()}};
-    };
-
-    const long total = scene.total_steps();
-    long done_before = 0;
-    for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k) done_before += scene.stages[k].steps;
-    done_before += pos.step_in_stage;
-    long steps_advanced = 0;  // steps this call really ran (done_before also counts skipped ones, for the ETA)
-    // Grain-steps really run: an observer may take grains out (a jam batch's outlet), so the
-    // count is summed chunk by chunk rather than taken as the steps times the grains at the start.
-    double grain_steps = 0;
-
-    bool ended_early = false;
-    auto last_progress = Clock::now();
-    auto last_checkpoint = Clock::now();
-    std::string status = "complete";
-
-    // A checkpoint does not store the background flow: a resumed run restores the one the stages
-    // before its own had set (its own stage sets it again in start_stage).
-    for (std::size_t k = 0; k < pos.stage && k < scene.stages.size(); ++k)
-        if (scene.stages[k].flow) s.flow = scene.stages[k].flow;
-
-    try {
-        for (std::size_t k = pos.stage; k < scene.stages.size(); ++k) {
-            const Stage& st = scene.stages[k];
-            const bool fresh = !(k == pos.stage && pos.stage_started);
-            start_stage(s, st, fresh);
-            // A resumed stage keeps the neighbour list and forces of its checkpoint, so the run
-            // continues exactly as if it had not stopped.
-            if (fresh) prepare(s);
-            long i = (k == pos.stage) ? pos.step_in_stage : 0;
-            pos = ProtocolPosition{k, i, true};
-            while (i < st.steps) {
-                // Steps run in chunks that end at every event fixed by the step count (stage
-                // end, snapshot, step-counted checkpoint), so the fused integrator pass is used
-                // without moving any event; a per-step observer gets chunks of one.
-                const bool hooks = observer || !options.modifiers.empty() || options.stage_finished;
-                const long every = hooks ? std::max(1L, options.observe_every) : 0;
-                const long chunk = steps_until_event(scene, st.steps - i, s.step, every);
-                grain_steps += static_cast<double>(chunk) * static_cast<double>(s.particles.size());
-                advance_steps(s, chunk);
-                i += chunk;
-                done_before += chunk;
-                steps_advanced += chunk;
-                pos.step_in_stage = i;
-                const bool observation = every > 0 && s.step % every == 0;
-                if (observer && observation) observer(s, k, i);
-                if (observation)
-                    for (const Modifier& m : options.modifiers) m.apply(s, k);
-                if (options.stage_finished && observation && options.stage_finished(s, k)) {
-                    done_before += st.steps - i;  // the skipped steps count as done for the ETA
-                    ended_early = true;
+    RunOutcome run(ProtocolPosition pos) {
+        install_interrupt_handler();
+        prepare_output_directory(scene_.output.directory, "/output/directory");
+        checkpoint_ = checkpoint_path_of(scene_);
+        check_checkpoint_path(checkpoint_,
+                              scene_.output.checkpoint_path.empty() ? "/output/directory" : "/output/checkpoint/path");
+        start_report();
+        stage_log_ = options_.resumed_stage_log.is_array() ? options_.resumed_stage_log : nlohmann::json::array();
+        total_ = scene_.total_steps();
+        for (std::size_t k = 0; k < pos.stage && k < scene_.stages.size(); ++k) done_before_ += scene_.stages[k].steps;
+        done_before_ += pos.step_in_stage;
+        // A checkpoint does not store the background flow: a resumed run restores the one the stages
+        // before its own had set (its own stage sets it again in start_stage).
+        for (std::size_t k = 0; k < pos.stage && k < scene_.stages.size(); ++k)
+            if (scene_.stages[k].flow) s_.flow = scene_.stages[k].flow;
+        try {
+            for (std::size_t k = pos.stage; k < scene_.stages.size(); ++k)
+                if (!run_stage(k, pos)) {
+                    status_ = "interrupted";
                     break;
                 }
-                if (scene.output.snapshots && s.step % scene.output.snapshot_every == 0) {
-                    const auto path =
-                        std::filesystem::path(scene.output.directory) /
-                        ("snapshot_" + std::to_string(s.step) + snapshot_extension(scene.output.snapshot_format));
-                    write_snapshot(path.string(), scene.output.snapshot_format, s.particles, s.domain, s.step, s.time);
-                }
-                const bool ck_steps =
-                    scene.output.checkpoint_every_steps > 0 && s.step % scene.output.checkpoint_every_steps == 0;
-                if (ck_steps || seconds_since(last_checkpoint) > scene.output.checkpoint_every_seconds) {
-                    write_checkpoint(checkpoint, scene.resolved, s, pos, history_of(stage_log));
-                    last_checkpoint = Clock::now();
-                }
-                if (options.progress && seconds_since(last_progress) > scene.output.progress_interval_s) {
-                    const double elapsed = seconds_since(t0);
-                    const double rate = steps_advanced / std::max(elapsed, 1e-9);
-                    const double grain_rate = grain_steps / std::max(elapsed, 1e-9);
-                    // Where a stage can end on a criterion (a jam's arrest or steady flow), the
-                    // time left to its last step is a bound, not an estimate: say so.
-                    std::fprintf(
-                        stderr,
-                        "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%% of the run), t = %.4g s, %.3g grain-steps/s, "
-                        "ETA %s%.0f s\n",
-                        options.mode.c_str(), k + 1, scene.stages.size(), st.name.c_str(), i, st.steps,
-                        100.0 * done_before / std::max(total, 1L), s.time, grain_rate,
-                        options.stage_finished ? "at most " : "", (total - done_before) / std::max(rate, 1e-9));
-                    last_progress = Clock::now();
-                }
-                if (interrupt_requested()) break;
-            }
-            // A stage its criterion has just ended is finished even if Ctrl-C came in the same
-            // step: a checkpoint inside it would make a resumed run test the criterion again.
-            if (interrupt_requested() && !ended_early && i < st.steps) {
-                status = "interrupted";
-                break;
-            }
-            stage_log.push_back({{"name", st.name},
-                                 {"steps", i},
-                                 {"ended_early", ended_early},
-                                 {"end_time_s", s.time},
-                                 {"state", state_summary(s)}});
-            ended_early = false;
-            pos = ProtocolPosition{k + 1, 0, false};
-            if (interrupt_requested() && k + 1 < scene.stages.size()) {
-                status = "interrupted";
-                break;
-            }
+        } catch (const BlowUp& e) {
+            status_ = "failed";
+            outcome_.report["error"] = e.what();
+            outcome_.exit_status = 3;
         }
-    } catch (const BlowUp& e) {
-        status = "failed";
-        report["error"] = e.what();
-        outcome.exit_status = 3;
+        return finish(pos);
     }
 
-    if (status == "interrupted") {
-        write_checkpoint(checkpoint, scene.resolved, s, pos, history_of(stage_log));
-        report["checkpoint"] = checkpoint;
-        report["resume_with"] = "mrjam " + options.mode + " --resume " + checkpoint;
-        outcome.exit_status = 130;
-        std::fprintf(stderr, "[%s] interrupted at step %ld; checkpoint written to %s\n", options.mode.c_str(), s.step,
-                     checkpoint.c_str());
+private:
+    void start_report() {
+        nlohmann::json& report = outcome_.report;
+        report["mrjam_version"] = MRJAM_VERSION;
+        report["mode"] = options_.mode;
+        report["scene_file"] = options_.scene_path;
+        report["seed"] = scene_.seed;
+        report["threads"] = s_.threads;
+        report["inputs"] = scene_.resolved;
+        report["fidelity"] = scene_.fidelity;
+        report["timestep"] = timestep_json(scene_);
+        report["warnings"] = scene_.warnings;
+        // Said before the run too: one about the step (a drag-limited one) changes how long it takes.
+        if (options_.progress)
+            for (const std::string& w : scene_.warnings)
+                std::fprintf(stderr, "[%s] warning: %s\n", options_.mode.c_str(), w.c_str());
     }
-    // The checkpoints written against an interruption (every few minutes) go; those asked for
-    // by step count are the user's and stay.
-    if (status == "complete" && scene.output.checkpoint_every_steps == 0) discard_checkpoint(checkpoint);
-    const double wall = seconds_since(t0);
-    const long steps_run = steps_advanced;
-    report["status"] = status;
-    report["partial"] = status != "complete";
-    report["results"] = state_summary(s);
-    report["results"]["stages"] = stage_log;
-    report["performance"] = {{"steps_run", steps_run},
-                             {"grain_steps_per_s", grain_steps / std::max(wall, 1e-9)},
-                             {"core_us_per_grain_step", wall * s.threads * 1e6 / std::max(1.0, grain_steps)}};
-    report["wall_time_s"] = wall;
-    if (!options.report_path.empty()) write_json_file(options.report_path, report);
-    return outcome;
+
+    nlohmann::json history() const {
+        if (!options_.checkpoint_state) return stage_log_;
+        return nlohmann::json{
+            {"mode", options_.mode}, {"stage_log", stage_log_}, {"state", options_.checkpoint_state()}};
+    }
+
+    // Stage k from `pos` (its start, or where a checkpoint left it). False: interrupted, with
+    // `pos` where to resume.
+    bool run_stage(std::size_t k, ProtocolPosition& pos) {
+        const Stage& st = scene_.stages[k];
+        const bool fresh = !(k == pos.stage && pos.stage_started);
+        start_stage(s_, st, fresh);
+        // A resumed stage keeps the neighbour list and forces of its checkpoint, so the run
+        // continues exactly as if it had not stopped.
+        if (fresh) prepare(s_);
+        long i = (k == pos.stage) ? pos.step_in_stage : 0;
+        pos = ProtocolPosition{k, i, true};
+        bool ended_early = false;
+        while (i < st.steps && !ended_early) {
+            ended_early = step_chunk(k, i);
+            pos.step_in_stage = i;
+            if (ended_early) break;
+            between_chunks(k, i, pos);
+            if (interrupt_requested()) break;
+        }
+        // A stage its criterion has just ended is finished even if Ctrl-C came in the same
+        // step: a checkpoint inside it would make a resumed run test the criterion again.
+        if (interrupt_requested() && !ended_early && i < st.steps) return false;
+        stage_log_.push_back({{"name", st.name},
+                              {"steps", i},
+                              {"ended_early", ended_early},
+                              {"end_time_s", s_.time},
+                              {"state", state_summary(s_)}});
+        pos = ProtocolPosition{k + 1, 0, false};
+        return !(interrupt_requested() && k + 1 < scene_.stages.size());
+    }
+
+    // Steps run in chunks that end at every event fixed by the step count (stage end, snapshot,
+    // step-counted checkpoint), so the fused integrator pass is used without moving any event; a
+    // per-step observer gets chunks of one. Then the observer, the modifiers and the stage's
+    // criterion; true: the criterion ended the stage.
+    bool step_chunk(std::size_t k, long& i) {
+        const Stage& st = scene_.stages[k];
+        const bool hooks = observer_ || !options_.modifiers.empty() || options_.stage_finished;
+        const long every = hooks ? std::max(1L, options_.observe_every) : 0;
+        const long chunk = steps_until_event(scene_, st.steps - i, s_.step, every);
+        grain_steps_ += static_cast<double>(chunk) * static_cast<double>(s_.particles.size());
+        advance_steps(s_, chunk);
+        i += chunk;
+        done_before_ += chunk;
+        steps_advanced_ += chunk;
+        if (!(every > 0 && s_.step % every == 0)) return false;
+        if (observer_) observer_(s_, k, i);
+        for (const Modifier& m : options_.modifiers) m.apply(s_, k);
+        if (options_.stage_finished && options_.stage_finished(s_, k)) {
+            done_before_ += st.steps - i;  // the skipped steps count as done for the ETA
+            return true;
+        }
+        return false;
+    }
+
+    // Snapshots, checkpoints and progress, as the step count and the clock call for them.
+    void between_chunks(std::size_t k, long i, const ProtocolPosition& pos) {
+        const OutputPlan& out = scene_.output;
+        if (out.snapshots && s_.step % out.snapshot_every == 0) {
+            const auto path = std::filesystem::path(out.directory) /
+                              ("snapshot_" + std::to_string(s_.step) + snapshot_extension(out.snapshot_format));
+            write_snapshot(path.string(), out.snapshot_format, s_.particles, s_.domain, s_.step, s_.time);
+        }
+        const bool ck_steps = out.checkpoint_every_steps > 0 && s_.step % out.checkpoint_every_steps == 0;
+        if (ck_steps || seconds_since(last_checkpoint_) > out.checkpoint_every_seconds) {
+            write_checkpoint(checkpoint_, scene_.resolved, s_, pos, history());
+            last_checkpoint_ = Clock::now();
+        }
+        if (options_.progress && seconds_since(last_progress_) > out.progress_interval_s) {
+            print_progress(k, i);
+            last_progress_ = Clock::now();
+        }
+    }
+
+    void print_progress(std::size_t k, long i) const {
+        const Stage& st = scene_.stages[k];
+        const double elapsed = seconds_since(t0_);
+        const double rate = steps_advanced_ / std::max(elapsed, 1e-9);
+        const double grain_rate = grain_steps_ / std::max(elapsed, 1e-9);
+        // Where a stage can end on a criterion (a jam's arrest or steady flow), the time left to
+        // its last step is a bound, not an estimate: say so.
+        std::fprintf(stderr,
+                     "[%s] stage %zu/%zu '%s' step %ld/%ld (%.1f%% of the run), t = %.4g s, %.3g grain-steps/s, "
+                     "ETA %s%.0f s\n",
+                     options_.mode.c_str(), k + 1, scene_.stages.size(), st.name.c_str(), i, st.steps,
+                     100.0 * done_before_ / std::max(total_, 1L), s_.time, grain_rate,
+                     options_.stage_finished ? "at most " : "", (total_ - done_before_) / std::max(rate, 1e-9));
+    }
+
+    RunOutcome finish(const ProtocolPosition& pos) {
+        nlohmann::json& report = outcome_.report;
+        if (status_ == "interrupted") {
+            write_checkpoint(checkpoint_, scene_.resolved, s_, pos, history());
+            report["checkpoint"] = checkpoint_;
+            report["resume_with"] = "mrjam " + options_.mode + " --resume " + checkpoint_;
+            outcome_.exit_status = 130;
+            std::fprintf(stderr, "[%s] interrupted at step %ld; checkpoint written to %s\n", options_.mode.c_str(),
+                         s_.step, checkpoint_.c_str());
+        }
+        // The checkpoints written against an interruption (every few minutes) go; those asked for
+        // by step count are the user's and stay.
+        if (status_ == "complete" && scene_.output.checkpoint_every_steps == 0) discard_checkpoint(checkpoint_);
+        const double wall = seconds_since(t0_);
+        report["status"] = status_;
+        report["partial"] = status_ != "complete";
+        report["results"] = state_summary(s_);
+        report["results"]["stages"] = stage_log_;
+        report["performance"] = {{"steps_run", steps_advanced_},
+                                 {"grain_steps_per_s", grain_steps_ / std::max(wall, 1e-9)},
+                                 {"core_us_per_grain_step", wall * s_.threads * 1e6 / std::max(1.0, grain_steps_)}};
+        report["wall_time_s"] = wall;
+        if (!options_.report_path.empty()) write_json_file(options_.report_path, report);
+        return outcome_;
+    }
+
+    Scene& scene_;
+    System& s_;
+    const RunOptions& options_;
+    const StepObserver& observer_;
+    const Clock::time_point t0_ = Clock::now();
+    Clock::time_point last_progress_ = t0_, last_checkpoint_ = t0_;
+    std::string checkpoint_;
+    RunOutcome outcome_;
+    nlohmann::json stage_log_;
+    std::string status_ = "complete";
+    long total_ = 0;
+    long done_before_ = 0;     // steps of the whole run done, skipped ones included (for the ETA)
+    long steps_advanced_ = 0;  // steps this call really ran
+    // Grain-steps really run: a modifier may take grains out (a jam batch's outlet), so the count
+    // is summed chunk by chunk rather than taken as the steps times the grains at the start.
+    double grain_steps_ = 0;
+};
+
+}  // namespace
+
+RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
+    return ProtocolRun(scene, options, observer).run(pos);
 }
 
 }  // namespace mrjam
