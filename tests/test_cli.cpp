@@ -105,6 +105,21 @@ TEST_SUITE("cli") {
         CHECK(mrjam(dir, "run").exit_code == 2);  // neither a scene nor --resume
     }
 
+    // A run that completes leaves no checkpoint behind, nor the temporary file of one a killed
+    // run left half written in the same place.
+    TEST_CASE("cli: a completed run removes its checkpoint and a stale temporary one") {
+        TempDir dir;
+        json scene = small_scene();
+        scene["output"] = {{"directory", dir.file("out")}};
+        std::filesystem::create_directories(dir.file("out"));
+        write_text(dir.file("out/checkpoint.mrjam.tmp"), "half written by a run that was killed");
+        const Result r = run_scene(dir, "small", scene);
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        CHECK_FALSE(std::filesystem::exists(dir.file("out/checkpoint.mrjam")));
+        CHECK_FALSE(std::filesystem::exists(dir.file("out/checkpoint.mrjam.tmp")));
+    }
+
     TEST_CASE("cli: a small scene runs and reports its inputs with defaults, seed and timing") {
         TempDir dir;
         const Result r = run_scene(dir, "small", small_scene());
@@ -394,6 +409,12 @@ TEST_SUITE("cli") {
             s["run"]["timestep"] = "1 ms";
             const Result r = expect_refused(dir, "timestep_above_limit", s, "/run/timestep");
             CHECK(r.err.find("stable limit") != std::string::npos);
+        }
+        // A step of 0 quietly meant the automatic one; the automatic step is asked for by name.
+        for (const json& zero : {json(0), json("0 s"), json("0 ns")}) {
+            json s = small_scene();
+            s["run"]["timestep"] = zero;
+            expect_refused(dir, "timestep_zero", s, "/run/timestep");
         }
         {
             json s = small_scene();

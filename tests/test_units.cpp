@@ -91,6 +91,23 @@ TEST_SUITE("unit") {
         CHECK_THROWS_AS(units::parse("nan Pa"), units::UnitError);
         CHECK_THROWS_AS(units::parse("1 kkg"), units::UnitError);  // prefix on kg
         CHECK_THROWS_AS(units::parse("1 mG"), units::UnitError);   // gauss takes no prefix
+        // What the C number and integer readers accept but a scene does not mean: a hexadecimal
+        // number (strtod read "0x10 mm" as 16 mm), a power past an int (4294967297 wrapped to
+        // 1), a power no unit has, and a NUL that ended the string early.
+        CHECK_THROWS_AS(units::parse("0x10 mm"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("0x1p4 m"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("1 m^4294967297"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("1 m^99999999999999999999"), units::UnitError);
+        CHECK_THROWS_AS(units::parse("1 m^10"), units::UnitError);
+        CHECK_THROWS_AS(units::parse(std::string("5 mm\0 of junk", 14)), units::UnitError);
+        CHECK_THROWS_AS(units::parse(".e3 m"), units::UnitError);
+        // ... while every decimal spelling still reads as before.
+        CHECK(units::parse("1e-3 m").value == doctest::Approx(1e-3).epsilon(1e-15));
+        CHECK(units::parse("-.5 m").value == -0.5);
+        CHECK(units::parse("+2.5E2 mm").value == doctest::Approx(0.25).epsilon(1e-15));
+        CHECK(units::parse("  3 um").value == doctest::Approx(3e-6).epsilon(1e-15));
+        CHECK(units::parse("2 m^-3").dimension == units::parse("2 1/m3").dimension);
+        CHECK(units::parse("7 m^9").value == 7);
         try {
             units::parse("6.7 parsecs");
             FAIL("expected UnitError");

@@ -1,5 +1,8 @@
 #include "io/checkpoint.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -110,6 +113,22 @@ auto as_resume_input(const std::string& path, Read&& read) {
 
 }  // namespace
 
+void sync_to_disk(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0) return;  // nothing there to make durable
+    ::fsync(fd);
+    ::close(fd);
+}
+
+namespace {
+
+std::string directory_of(const std::string& path) {
+    const std::filesystem::path p(path);
+    return p.has_parent_path() ? p.parent_path().string() : std::string(".");
+}
+
+}  // namespace
+
 void write_checkpoint(const std::string& path, const nlohmann::json& resolved_scene, const System& s,
                       const ProtocolPosition& position, const nlohmann::json& history) {
     const std::string tmp = path + ".tmp";
@@ -156,8 +175,13 @@ void write_checkpoint(const std::string& path, const nlohmann::json& resolved_sc
         binary::put(out, sum);
         if (!out) throw std::runtime_error("failed writing checkpoint " + tmp);
     }
+    // On disk before it replaces the last good checkpoint, and the rename on disk after: a power
+    // loss then leaves the old checkpoint or the new one, never a file the rename points at but
+    // the disk never got.
+    sync_to_disk(tmp);
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
         throw std::runtime_error("cannot move checkpoint into place at " + path);
+    sync_to_disk(directory_of(path));
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {

@@ -17,7 +17,7 @@ struct ProtocolPosition {
 };
 
 // Writes atomically (temporary file, then rename), so an interrupted write never leaves a
-// corrupt checkpoint behind.
+// corrupt checkpoint behind, and durably (the file synced before the rename, its directory after).
 void write_checkpoint(const std::string& path, const nlohmann::json& resolved_scene, const System& system,
                       const ProtocolPosition& position, const nlohmann::json& history);
 
@@ -32,6 +32,9 @@ struct CheckpointHeader {
 // SceneError("--resume", ...) naming the file when it cannot be read.
 CheckpointHeader read_checkpoint_header(const std::string& path);
 void restore_state(const std::string& path, System& system);
+
+// fsync of a file or a directory (a no-op for a path that cannot be opened).
+void sync_to_disk(const std::string& path);
 
 // The resume sequence every mode shares: into a scene built from the checkpoint's resolved scene
 // without grains, the saved state; then the time step chosen for those grains; then the saved

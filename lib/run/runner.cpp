@@ -152,6 +152,8 @@ void check_checkpoint_path(const std::string& path, const std::string& json_path
 void discard_checkpoint(const std::string& path) {
     std::error_code ignored;  // none written (a short run): nothing to delete
     std::filesystem::remove(path, ignored);
+    // A temporary file a killed run left half written goes too.
+    std::filesystem::remove(path + ".tmp", ignored);
 }
 
 namespace {

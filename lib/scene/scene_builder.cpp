@@ -416,9 +416,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         run.number("timestep_safety", tier.timestep_safety, Bounds::open_closed(0.0, kMaxStepFraction));
     if (run.has("timestep") && run.raw("timestep").is_string() && run.raw("timestep").get<std::string>() == "auto") {
         scene.requested_timestep = 0;
+    } else if (run.has("timestep")) {
+        // A step of 0 meant "automatic" without a word; the automatic step is asked for by name.
+        scene.requested_timestep = run.quantity("timestep", units::time, std::nullopt, Bounds::positive());
     } else {
-        scene.requested_timestep = run.quantity("timestep", units::time, 0.0, Bounds::non_negative());
-        if (scene.requested_timestep == 0) scene.resolved["run"]["timestep"] = "auto";
+        scene.requested_timestep = 0;
+        scene.resolved["run"]["timestep"] = "auto";
     }
     // choose_timestep() records the step it chose as run.timestep_used in the resolved scene, and
     // a checkpoint (or a report's "inputs" fed back as a scene) carries that copy. It is an output,

@@ -1,6 +1,7 @@
 #include "scene/units.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -56,6 +57,33 @@ Quantity power(const UnitDef& u, double scale, int exponent) {
     return q;
 }
 
+// The largest power a unit may carry in a scene.
+constexpr long kLargestPower = 9;
+
+// The length of the decimal number at the start of `s` ([+-] digits [. digits] [e [+-] digits],
+// or [+-] . digits ...), 0 if there is none.
+std::size_t decimal_number_length(const char* s) {
+    std::size_t k = 0;
+    auto digit = [&](std::size_t at) { return std::isdigit(static_cast<unsigned char>(s[at])) != 0; };
+    if (s[k] == '+' || s[k] == '-') ++k;
+    std::size_t mantissa = 0;
+    while (digit(k)) ++k, ++mantissa;
+    if (s[k] == '.') {
+        ++k;
+        while (digit(k)) ++k, ++mantissa;
+    }
+    if (mantissa == 0) return 0;
+    if (s[k] == 'e' || s[k] == 'E') {
+        std::size_t e = k + 1;
+        if (s[e] == '+' || s[e] == '-') ++e;
+        if (digit(e)) {
+            while (digit(e)) ++e;
+            k = e;
+        }
+    }
+    return k;
+}
+
 // One factor such as "um", "m3", "s^-1", "kg".
 Quantity parse_factor(const std::string& token, const std::string& whole) {
     std::size_t split = token.size();
@@ -67,9 +95,16 @@ Quantity parse_factor(const std::string& token, const std::string& whole) {
     if (!exp_text.empty() && exp_text[0] == '^') exp_text.erase(0, 1);
     int exponent = 1;
     if (!exp_text.empty()) {
+        // Read as a long and bounded before it becomes an int: 4294967297 cast to int was 1. No
+        // unit of a scene needs a power beyond 9 (m3, s2, m^-3).
         char* end = nullptr;
-        exponent = static_cast<int>(std::strtol(exp_text.c_str(), &end, 10));
-        if (*end != '\0' || exponent == 0) throw UnitError("bad power '" + token + "' in \"" + whole + "\"");
+        errno = 0;
+        const long power_read = std::strtol(exp_text.c_str(), &end, 10);
+        if (*end != '\0' || power_read == 0 || errno == ERANGE || power_read > kLargestPower ||
+            power_read < -kLargestPower)
+            throw UnitError("bad power '" + token + "' in \"" + whole +
+                            "\" (a power is a non-zero whole number of at most " + std::to_string(kLargestPower) + ")");
+        exponent = static_cast<int>(power_read);
     }
     const auto& table = unit_table();
     if (auto it = table.find(symbol); it != table.end()) return power(it->second, 1.0, exponent);
@@ -132,10 +167,18 @@ std::string spoken(const Dimension& d) {
 }
 
 Quantity parse(const std::string& text) {
+    // The whole string is read: a NUL inside it would end the C string early and leave the rest
+    // unread ("5 mm" then anything).
+    if (text.find('\0') != std::string::npos) throw UnitError("\"" + text + "\" contains a NUL character");
     const char* begin = text.c_str();
+    while (*begin == ' ' || *begin == '\t') ++begin;
+    const std::size_t digits = decimal_number_length(begin);
+    if (digits == 0) throw UnitError("\"" + text + "\" does not start with a decimal number");
     char* end = nullptr;
     const double number = std::strtod(begin, &end);
-    if (end == begin) throw UnitError("\"" + text + "\" does not start with a number");
+    // strtod also reads hexadecimal ("0x10" is 16), "inf" and leading spaces: only the decimal
+    // number the scene format writes is taken.
+    if (end != begin + digits) throw UnitError("\"" + text + "\" does not start with a decimal number");
     if (!std::isfinite(number)) throw UnitError("\"" + text + "\" is not a finite number");
     Quantity q{number, dimensionless};
     std::string rest(end);
