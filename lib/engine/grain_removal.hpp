@@ -16,8 +16,9 @@ namespace mrjam {
 std::vector<std::int64_t> surviving_index(const std::vector<char>& remove, std::size_t& kept);
 
 // Removes the grains marked in `remove` (one flag per grain) from the particles, the walls'
-// per-grain contact histories, the contact and magnetic neighbour lists and the magnetic
-// model's per-grain field. Returns how many went.
+// per-grain contact histories and the contact neighbour list, and has each force term compact
+// its own per-grain state (ForceTerm::grains_removed: the magnetic pair list and field, held
+// forces and flow lookups). Returns how many went.
 std::size_t remove_grains(System& s, const std::vector<char>& remove);
 // The same with the surviving index already formed (a caller that also compacts arrays of its own).
 std::size_t remove_grains(System& s, const std::vector<std::int64_t>& new_index, std::size_t kept);
