@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "rel_approx.hpp"
+#include "magnetic/magnetic_model.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/shear_spec.hpp"
 
@@ -97,6 +99,32 @@ TEST_SUITE("unit") {
         CHECK(path_of_refusal(s) == "/scaling/stiffness");
         s["scaling"] = {{"stiffness", 0.1}};
         CHECK(path_of_refusal(s) == "accepted");
+    }
+
+    // The calibration runs the magnetic model the jam predictor runs: `close_pairs` reaches the
+    // engine (its table is built), and the engine's check of it is reported at the shear path.
+    TEST_CASE("shear scene: magnetic/close_pairs reaches the engine and is checked there") {
+        json s = base_scene();
+        s["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"raft_thickness", "8 um"}};
+        s["magnetic"] = {{"close_pairs", {{"min_gap", 0.05}}}};
+        const ShearSpec spec = read_shear_spec(s, "quick");
+        Scene with = build_scene(engine_scene(spec, 0.1), BuildOptions{});
+        choose_timestep(with);  // builds the pair lists and the correction's table, as the cell does
+        CHECK(with.system.magnetic.settings.close_pairs.enabled);
+        CHECK(with.system.magnetic.settings.close_pairs.min_gap == rel(0.05));
+        CHECK_FALSE(with.system.magnetic.close_pair_table.empty());
+        s["magnetic"]["close_pairs"]["min_gap"] = 2.0;  // beyond the engine's 0.005..1
+        const ShearSpec bad = read_shear_spec(s, "quick");
+        try {
+            Scene scene = build_scene(engine_scene(bad, 0.1), BuildOptions{});
+            choose_timestep(scene);
+            FAIL("a min_gap of 2 radii was accepted");
+        } catch (const SceneError& e) {
+            CHECK(shear_path_of(e.path()) == "/magnetic/close_pairs/min_gap");
+        }
+        s.erase("magnetic");
+        const Scene without = build_scene(engine_scene(read_shear_spec(s, "quick"), 0.1), BuildOptions{});
+        CHECK_FALSE(without.system.magnetic.settings.close_pairs.enabled);
     }
 
 }  // TEST_SUITE
