@@ -9,5 +9,6 @@ void add_magnetics_command(CLI::App& app, int& exit_status);  // apps/command_ma
 void add_jam_command(CLI::App& app, int& exit_status);        // apps/command_jam.cpp
 void add_design_command(CLI::App& app, int& exit_status);     // apps/command_design.cpp
 void add_shear_command(CLI::App& app, int& exit_status);      // apps/command_shear.cpp, lib/shear/
+void add_asteroid_command(CLI::App& app, int& exit_status);   // apps/command_asteroid.cpp, lib/asteroid/
 
 }  // namespace mrjam::cli

@@ -21,13 +21,14 @@ forbid() {
   fi
 }
 
-forbid lib/engine scene io run jam shear magnetics design
-forbid geometry scene io run jam shear magnetics design
-forbid lib/scene jam shear magnetics design
-forbid lib/io jam shear magnetics design
-forbid lib/run jam shear magnetics design
-forbid lib/jam shear magnetics design
-forbid lib/shear jam magnetics design
-forbid magnetics jam shear design
-forbid design shear
+forbid lib/engine scene io run jam shear asteroid magnetics design
+forbid geometry scene io run jam shear asteroid magnetics design
+forbid lib/scene jam shear asteroid magnetics design
+forbid lib/io jam shear asteroid magnetics design
+forbid lib/run jam shear asteroid magnetics design
+forbid lib/jam shear asteroid magnetics design
+forbid lib/shear jam asteroid magnetics design
+forbid lib/asteroid jam shear magnetics design
+forbid magnetics jam shear asteroid design
+forbid design shear asteroid
 exit $status

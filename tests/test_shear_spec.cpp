@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "rel_approx.hpp"
 #include "magnetic/magnetic_model.hpp"
+#include "rel_approx.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/shear_spec.hpp"

@@ -43,36 +43,63 @@ std::string num(double v) {
 
 }  // namespace
 
+namespace {
+
+// One axis: its range in plotted units (log10 of the value on a log axis) and its ticks.
+struct Axis {
+    bool log = false;
+    double lo = 0, hi = 1, step = 1;
+    double plotted(double v) const { return log ? std::log10(v) : v; }
+    bool shows(double v) const { return !log || v > 0; }
+    std::string label(double t) const { return log ? "1e" + num(t) : num(t); }
+};
+
+// Range of the plotted values (lo > hi when there are none), widened to whole ticks.
+Axis make_axis(bool log, double lo, double hi, bool from_zero, bool pad_top) {
+    Axis a;
+    a.log = log;
+    if (lo > hi) {
+        lo = 0;
+        hi = 1;
+    }
+    if (log) {
+        a.lo = std::floor(lo);
+        a.hi = std::ceil(hi);
+        if (a.hi <= a.lo) a.hi = a.lo + 1;
+        a.step = std::max(1.0, std::ceil((a.hi - a.lo) / 12));  // at most about a dozen decades labelled
+        return a;
+    }
+    if (from_zero) lo = std::min(lo, 0.0);
+    if (hi <= lo) hi = lo + 1;
+    if (pad_top) hi += 0.05 * (hi - lo);
+    a.step = tick_step(hi - lo);
+    a.hi = std::ceil(hi / a.step) * a.step;
+    a.lo = std::floor(lo / a.step) * a.step;
+    return a;
+}
+
+}  // namespace
+
 void write_svg(const std::string& path, const Plot& plot) {
     const double W = 720, H = 480, left = 80, right = 200, top = 40, bottom = 60;
     double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+    const Axis xprobe{plot.log_x}, yprobe{plot.log_y};
     for (const auto& s : plot.series)
         for (std::size_t k = 0; k < s.x.size(); ++k) {
             const double e = k < s.error.size() ? s.error[k] : 0;
-            xmin = std::min(xmin, s.x[k]);
-            xmax = std::max(xmax, s.x[k]);
-            ymin = std::min(ymin, s.y[k] - e);
-            ymax = std::max(ymax, s.y[k] + e);
+            if (!xprobe.shows(s.x[k]) || !yprobe.shows(s.y[k])) continue;
+            xmin = std::min(xmin, xprobe.plotted(s.x[k]));
+            xmax = std::max(xmax, xprobe.plotted(s.x[k]));
+            ymin = std::min(ymin, yprobe.plotted(plot.log_y ? s.y[k] : s.y[k] - e));
+            ymax = std::max(ymax, yprobe.plotted(s.y[k] + e));
         }
-    if (xmin > xmax) {
-        xmin = 0;
-        xmax = 1;
-        ymin = 0;
-        ymax = 1;
-    }
-    xmin = std::min(xmin, 0.0);
-    if (plot.y_from_zero) ymin = std::min(ymin, 0.0);
-    if (xmax <= xmin) xmax = xmin + 1;
-    if (ymax <= ymin) ymax = ymin + 1;
-    ymax += 0.05 * (ymax - ymin);
-    const double xs = tick_step(xmax - xmin), ys = tick_step(ymax - ymin);
-    xmax = std::ceil(xmax / xs) * xs;
-    ymax = std::ceil(ymax / ys) * ys;
-    xmin = std::floor(xmin / xs) * xs;
-    ymin = std::floor(ymin / ys) * ys;
+    const Axis xa = make_axis(plot.log_x, xmin, xmax, true, false);
+    const Axis ya = make_axis(plot.log_y, ymin, ymax, plot.y_from_zero, true);
     const double pw = W - left - right, ph = H - top - bottom;
-    auto X = [&](double x) { return left + (x - xmin) / (xmax - xmin) * pw; };
-    auto Y = [&](double y) { return top + ph - (y - ymin) / (ymax - ymin) * ph; };
+    auto X = [&](double x) { return left + (xa.plotted(x) - xa.lo) / (xa.hi - xa.lo) * pw; };
+    auto Y = [&](double y) { return top + ph - (ya.plotted(y) - ya.lo) / (ya.hi - ya.lo) * ph; };
+    auto XT = [&](double t) { return left + (t - xa.lo) / (xa.hi - xa.lo) * pw; };
+    auto YT = [&](double t) { return top + ph - (t - ya.lo) / (ya.hi - ya.lo) * ph; };
 
     std::ostringstream o;
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
@@ -80,16 +107,17 @@ void write_svg(const std::string& path, const Plot& plot) {
     o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     o << "<text x=\"" << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.title)
       << "</text>\n";
-    for (double x = xmin; x <= xmax + 1e-9 * xs; x += xs) {
-        o << "<line x1=\"" << X(x) << "\" y1=\"" << top << "\" x2=\"" << X(x) << "\" y2=\"" << top + ph
+    for (double x = xa.lo; x <= xa.hi + 1e-9 * xa.step; x += xa.step) {
+        o << "<line x1=\"" << XT(x) << "\" y1=\"" << top << "\" x2=\"" << XT(x) << "\" y2=\"" << top + ph
           << "\" stroke=\"#ddd\"/>\n";
-        o << "<text x=\"" << X(x) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">" << num(x)
+        o << "<text x=\"" << XT(x) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">" << xa.label(x)
           << "</text>\n";
     }
-    for (double y = ymin; y <= ymax + 1e-9 * ys; y += ys) {
-        o << "<line x1=\"" << left << "\" y1=\"" << Y(y) << "\" x2=\"" << left + pw << "\" y2=\"" << Y(y)
+    for (double y = ya.lo; y <= ya.hi + 1e-9 * ya.step; y += ya.step) {
+        o << "<line x1=\"" << left << "\" y1=\"" << YT(y) << "\" x2=\"" << left + pw << "\" y2=\"" << YT(y)
           << "\" stroke=\"#ddd\"/>\n";
-        o << "<text x=\"" << left - 6 << "\" y=\"" << Y(y) + 4 << "\" text-anchor=\"end\">" << num(y) << "</text>\n";
+        o << "<text x=\"" << left - 6 << "\" y=\"" << YT(y) + 4 << "\" text-anchor=\"end\">" << ya.label(y)
+          << "</text>\n";
     }
     o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"none\" stroke=\"black\"/>\n";
@@ -99,13 +127,16 @@ void write_svg(const std::string& path, const Plot& plot) {
       << escape(plot.y_label) << "</text>\n";
     double ly = top + 10;
     for (const auto& s : plot.series) {
+        const char* dash = s.dashed ? "\" stroke-dasharray=\"6,4" : "";
         if (s.line && s.x.size() > 1) {
-            o << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.5\" points=\"";
-            for (std::size_t k = 0; k < s.x.size(); ++k) o << X(s.x[k]) << "," << Y(s.y[k]) << " ";
+            o << "<polyline fill=\"none\" stroke=\"" << s.colour << dash << "\" stroke-width=\"1.5\" points=\"";
+            for (std::size_t k = 0; k < s.x.size(); ++k)
+                if (xa.shows(s.x[k]) && ya.shows(s.y[k])) o << X(s.x[k]) << "," << Y(s.y[k]) << " ";
             o << "\"/>\n";
         } else {
             for (std::size_t k = 0; k < s.x.size(); ++k) {
-                if (k < s.error.size() && s.error[k] > 0)
+                if (!xa.shows(s.x[k]) || !ya.shows(s.y[k])) continue;
+                if (k < s.error.size() && s.error[k] > 0 && ya.shows(s.y[k] - s.error[k]))
                     o << "<line x1=\"" << X(s.x[k]) << "\" y1=\"" << Y(s.y[k] - s.error[k]) << "\" x2=\"" << X(s.x[k])
                       << "\" y2=\"" << Y(s.y[k] + s.error[k]) << "\" stroke=\"" << s.colour << "\"/>\n";
                 o << "<circle cx=\"" << X(s.x[k]) << "\" cy=\"" << Y(s.y[k]) << "\" r=\"4\" fill=\""
@@ -115,7 +146,7 @@ void write_svg(const std::string& path, const Plot& plot) {
         const double lx = left + pw + 15;
         if (s.line)
             o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 20 << "\" y2=\"" << ly << "\" stroke=\""
-              << s.colour << "\" stroke-width=\"1.5\"/>\n";
+              << s.colour << dash << "\" stroke-width=\"1.5\"/>\n";
         else
             o << "<circle cx=\"" << lx + 10 << "\" cy=\"" << ly << "\" r=\"4\" fill=\""
               << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";

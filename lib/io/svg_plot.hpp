@@ -1,6 +1,6 @@
 #pragma once
-// A minimal SVG line/scatter plot writer (no plotting dependency): linear axes with ticks,
-// series drawn as markers with error bars or as lines, and a legend.
+// A minimal SVG line/scatter plot writer (no plotting dependency): linear or logarithmic axes
+// with ticks, series drawn as markers with error bars or as lines (solid or dashed), and a legend.
 #include <string>
 #include <vector>
 
@@ -12,12 +12,15 @@ struct PlotSeries {
     std::string colour = "#1f77b4";
     bool line = false;    // line instead of markers
     bool hollow = false;  // open markers
+    bool dashed = false;  // a dashed line (with `line`)
 };
 
 struct Plot {
     std::string title, x_label, y_label;
     std::vector<PlotSeries> series;
-    bool y_from_zero = true;
+    bool y_from_zero = true;  // linear y only
+    // Logarithmic axes: ticks at whole decades; points with a value <= 0 on a log axis are left out.
+    bool log_x = false, log_y = false;
 };
 
 // Writes the plot as an SVG file; throws std::runtime_error if it cannot be written.
