@@ -12,5 +12,7 @@ void add_magnetic_bench_commands(CLI::App& bench, int& exit_status);
 void add_flow_bench_command(CLI::App& bench, int& exit_status);
 // sphere-pair (bench/src/bench_sphere_pair.cpp): the point dipoles' error between close spheres.
 void add_sphere_pair_bench_command(CLI::App& bench, int& exit_status);
+// gravity (bench/src/bench_gravity.cpp): the self-gravity tree's error and cost against direct summation.
+void add_gravity_bench_command(CLI::App& bench, int& exit_status);
 
 }  // namespace mrjam::cli

@@ -20,6 +20,7 @@ struct TimestepLimits {
     double drag = 0;          // infinity without drag: the smaller of the two below
     double stokes = 0;        // the smallest grain's m / (6 pi mu R), infinity without a fluid
     double pair_damping = 0;  // m* / c of two smallest grains, infinity without pair damping
+    double gravity = 0;       // a tenth of a grazing orbit's period about the densest grain (self-gravity)
     double critical = 0;      // the smallest
     std::string limiting;     // which of them
     double stable_limit = 0;  // largest step accepted: max_fraction * critical

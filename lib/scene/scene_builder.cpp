@@ -372,7 +372,8 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         read_contact(SceneNode(in, scene.resolved["contact"], "/contact"), s.physics, pair_damping);
     }
 
-    // The force terms, in the order they add (per grain: drag, gravity; then magnetic, pair damping).
+    // The force terms, in the order they add (per grain: drag, gravity; then magnetic, self-gravity,
+    // pair damping).
     double fluid_density = 0;
     if (auto f = root.optional_object("fluid")) {
         const double viscosity = f->quantity("viscosity", units::viscosity, std::nullopt, Bounds::positive());
@@ -398,6 +399,8 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         read_magnetic(*mag, s, options, tier);
         s.terms.add(std::make_unique<MagneticTerm>());
     }
+    if (auto sg = root.optional_object("self_gravity"))
+        s.terms.add(std::make_unique<SelfGravityTerm>(read_self_gravity(*sg, s.domain)));
     if (pair_damping > 0) s.terms.add(std::make_unique<PairDampingTerm>(pair_damping));
 
     std::vector<std::string> wall_names;
@@ -525,11 +528,11 @@ void choose_timestep(Scene& scene) {
                                  format_number(scene.limits.critical) + " s); use a shorter step or \"auto\"");
         s.dt = scene.requested_timestep;
     } else {
-        // Nothing that moves on its own time scale (no contact law, drag or damping): no limit.
+        // Nothing that moves on its own time scale (no contact law, drag, damping or self-gravity).
         if (!std::isfinite(scene.limits.critical))
             throw SceneError("/run/timestep",
-                             "nothing in this scene limits the time step (no contact model, drag or pair "
-                             "damping): give an explicit step, e.g. \"1 us\"");
+                             "nothing in this scene limits the time step (no contact model, drag, pair damping or "
+                             "self-gravity): give an explicit step, e.g. \"1 us\"");
         s.dt = scene.timestep_safety * scene.limits.critical;
     }
     if (const std::string w = drag_limited_step_warning(scene.limits); !w.empty()) scene.warnings.push_back(w);

@@ -216,4 +216,23 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     node.finish();
 }
 
+SelfGravitySettings read_self_gravity(SceneNode node, const Domain& domain) {
+    // Isolated boundaries only: a periodic image of a body is another body (the source's PPPM
+    // trick read low by about the cloud's share of the box for that reason).
+    for (int k = 0; k < 3; ++k)
+        if (domain.periodic[k])
+            throw SceneError("/domain/periodic",
+                             "self-gravity sums over open space; make every axis non-periodic "
+                             "(or drop /self_gravity)");
+    SelfGravitySettings st;
+    st.method =
+        node.choice("method", {"tree", "direct"}, "tree") == "tree" ? GravityMethod::tree : GravityMethod::direct;
+    st.constant = node.quantity("constant", units::gravitational_constant, kNewtonG, Bounds::positive());
+    st.tree.opening_angle = node.number("opening_angle", 0.5, Bounds::open_closed(0, 1));
+    st.tree.leaf_size = static_cast<int>(node.integer("leaf_size", 8, 1, 64));
+    st.update_interval = static_cast<int>(node.integer("update_interval", 1, 1, 100000));
+    node.finish();
+    return st;
+}
+
 }  // namespace mrjam

@@ -8,6 +8,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "terms/self_gravity_term.hpp"
 
 namespace mrjam {
 
@@ -21,5 +22,7 @@ void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng&
 // The close-pair correction's table, once the grains are placed (r_max: the largest radius).
 void build_close_pair_table(System& s, double r_max);
 void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier);
+// The self_gravity block (Barnes-Hut tree or direct summation; refused in a periodic domain).
+SelfGravitySettings read_self_gravity(SceneNode node, const Domain& domain);
 
 }  // namespace mrjam

@@ -27,11 +27,12 @@ inline constexpr Dimension energy{{2, 1, -2, 0}};
 inline constexpr Dimension surface_energy{{0, 1, -2, 0}};  // J/m2 = N/m
 inline constexpr Dimension stiffness{{0, 1, -2, 0}};       // N/m, same base units as J/m2
 inline constexpr Dimension density{{-3, 1, 0, 0}};
-inline constexpr Dimension viscosity{{-1, 1, -1, 0}};              // Pa s
-inline constexpr Dimension damping{{0, 1, -1, 0}};                 // N s/m
-inline constexpr Dimension magnetic_flux_density{{0, 1, -2, -1}};  // tesla
-inline constexpr Dimension magnetic_field{{-1, 0, 0, 1}};          // A/m, also magnetisation
-inline constexpr Dimension magnetic_moment{{2, 0, 0, 1}};          // A m^2
+inline constexpr Dimension viscosity{{-1, 1, -1, 0}};               // Pa s
+inline constexpr Dimension damping{{0, 1, -1, 0}};                  // N s/m
+inline constexpr Dimension magnetic_flux_density{{0, 1, -2, -1}};   // tesla
+inline constexpr Dimension magnetic_field{{-1, 0, 0, 1}};           // A/m, also magnetisation
+inline constexpr Dimension magnetic_moment{{2, 0, 0, 1}};           // A m^2
+inline constexpr Dimension gravitational_constant{{3, -1, -2, 0}};  // m^3 / (kg s^2)
 
 // Human-readable form of a dimension, e.g. "m" or "kg m^-1 s^-2", for error messages.
 std::string describe(const Dimension&);
