@@ -17,6 +17,14 @@ nlohmann::json read_json_file(const std::string& path) {
     if (std::filesystem::is_directory(path)) throw SceneError(path, "is a directory: give the scene's JSON file");
     std::ifstream in(path);
     if (!in) throw SceneError(path, "cannot open the scene file (check the path)");
+    // Sizes the input controls are bounded before anything is allocated for them: the parsed
+    // document takes about ten times its text.
+    std::error_code size_error;
+    const auto bytes = std::filesystem::file_size(path, size_error);
+    if (!size_error && bytes > kMostSceneBytes)
+        throw SceneError(path, "is " + std::to_string(bytes >> 20) + " MB; a scene file may be at most " +
+                                   std::to_string(kMostSceneBytes >> 20) +
+                                   " MB (give long grain lists as a LAMMPS data file)");
     std::stringstream buffer;
     buffer << in.rdbuf();
     // A key given twice in one object: the parser would keep the last without a word, so the
@@ -38,6 +46,9 @@ nlohmann::json read_json_file(const std::string& path) {
         auto element_done = [&] {
             if (!open.empty() && open.back().array) ++open.back().index;
         };
+        if ((event == E::object_start || event == E::array_start) && open.size() >= kMostSceneDepth)
+            throw SceneError(child_path(), "is nested deeper than " + std::to_string(kMostSceneDepth) +
+                                               " levels: no scene needs that; check the file (" + path + ")");
         switch (event) {
             case E::object_start:
                 open.push_back({false, child_path(), 0, {}});
@@ -74,6 +85,11 @@ nlohmann::json read_json_file(const std::string& path) {
 void prepare_output_file(const std::string& path, const std::string& option, const std::vector<std::string>& inputs) {
     namespace fs = std::filesystem;
     if (path.empty()) throw SceneError(option, "is empty: give a file name such as report.json");
+    // "--report --quiet" would write a report named --quiet: a value that looks like an option
+    // is a missing value (a file that really starts with '-' can be written ./-name).
+    if (path[0] == '-')
+        throw SceneError(option, "got '" + path + "', which looks like an option: give " + option + " a file name (./" +
+                                     path + " if that is meant)");
     const fs::path p(path);
     if (!p.has_filename() || fs::is_directory(p))
         throw SceneError(option, path + " is a directory: give a file name such as " + (p / "report.json").string());
@@ -92,6 +108,20 @@ void prepare_output_file(const std::string& path, const std::string& option, con
 }
 
 int run_cli(CLI::App& app, int argc, char** argv, const int& exit_status) {
+    // CLI11 answers a mistyped subcommand with "A subcommand is required": name it, and the known ones.
+    if (argc > 1 && argv[1][0] != '-') {
+        std::string known;
+        bool found = false;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+            found = found || sub->get_name() == argv[1];
+            known += (known.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!found) {
+            std::cerr << "error: unknown subcommand '" << argv[1] << "'; the subcommands are " << known
+                      << " (mrjam --help)\n";
+            return kExitBadInput;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

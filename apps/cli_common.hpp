@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the subcommands: reading a scene file and mapping failures to exit codes.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@ namespace mrjam::cli {
 using mrjam::kExitBadInput;
 using mrjam::kExitError;
 using mrjam::kExitInterrupted;
+
+// Bounds on what a scene file may make the reader allocate: its size, and its nesting (the
+// duplicate-key check keeps a path per open level, so memory grows with the square of the depth).
+inline constexpr std::uintmax_t kMostSceneBytes = std::uintmax_t{256} << 20;
+inline constexpr std::size_t kMostSceneDepth = 64;
 
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);

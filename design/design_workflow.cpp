@@ -10,6 +10,7 @@
 #include "design/design_progress.hpp"
 #include "design/design_scenes.hpp"
 #include "jam/jam_checkpoint.hpp"
+#include "jam/jam_results.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/open_flow.hpp"
 #include "jam/seed_tally.hpp"
@@ -203,10 +204,8 @@ private:
             return interrupted(stopped);
         }
         if (o.exit_status != 0) return stopped_by_jam_run(o, where, seed_report);
-        json record = jam_seed_record(o);
+        json record = jam_seed_record(o, seed);
         if (k == 0) progress_.first_report = o.report;
-        record["seed"] = seed;
-        record["status"] = o.report["status"];
         record["jam_report"] = seed_report.string();
         progress_.runs.push_back(record);
         if (req_.progress)

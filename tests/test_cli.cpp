@@ -506,6 +506,26 @@ TEST_SUITE("cli") {
         CHECK(apart.exit_code == 2);
         CHECK(apart.err.find("twice") == std::string::npos);  // refused for its missing keys, not for x
 
+        // Nesting that only a hostile file has: 400 kB of "[[[[..." took 21 GB before it was
+        // bounded. Refused at the depth limit, quickly, naming the file.
+        write_text(dir.file("deep.json"), "{\"a\": " + std::string(400000, '[') + std::string(400000, ']') + "}");
+        const Result deep =
+            mrjam(dir, "run " + quote(dir.file("deep.json")) + " --report " + quote(dir.file("r.json")));
+        CHECK(deep.exit_code == 2);
+        CHECK(deep.err.find("nested deeper than 64 levels") != std::string::npos);
+        CHECK(deep.err.find("deep.json") != std::string::npos);
+
+        // "--report --quiet": the option was taken as the report's file name.
+        const Result as_option = mrjam(dir, "run " + quote(dir.file("twice.json")) + " --report --quiet");
+        CHECK(as_option.exit_code == 2);
+        CHECK(as_option.err.find("looks like an option") != std::string::npos);
+        CHECK_FALSE(fs::exists("--quiet"));
+        // A mistyped subcommand is named, with the known ones.
+        const Result typo = mrjam(dir, "jamm " + quote(dir.file("twice.json")));
+        CHECK(typo.exit_code == 2);
+        CHECK(typo.err.find("unknown subcommand 'jamm'") != std::string::npos);
+        CHECK(typo.err.find("jam, design") != std::string::npos);
+
         write_text(dir.file("array.json"), "[1, 2, 3]");
         const Result array =
             mrjam(dir, "run " + quote(dir.file("array.json")) + " --report " + quote(dir.file("r.json")));

@@ -9,6 +9,7 @@
 #include "jam/closed_flow.hpp"
 #include "jam/contact_clusters.hpp"
 #include "jam/jam_outcome.hpp"
+#include "jam/jam_results.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/jam_scene.hpp"
 #include "jam/steady_flow.hpp"

@@ -1186,4 +1186,36 @@ TEST_SUITE("physics") {
         CHECK_FALSE(fresh.resolved["magnetic"].contains("tolerance"));
     }
 
+    // `run` used to hold the map's edge value for grains outside it, silently, while `jam` refused
+    // the same map: a map that misses a grain is refused, one the domain outgrows is a warning.
+    TEST_CASE("field map coverage: a map that misses a grain is refused by name; a smaller domain is fine") {
+        mrjam_test::TempDir dir("mrjam_coverage");
+        const FieldMap map({3, 3, 3}, Vec3{0, 0, 0}, Vec3{5e-3, 5e-3, 5e-3}, std::vector<Vec3>(27, Vec3{0, 0, 0.1}));
+        map.write(dir.file("map.txt"));
+        auto scene = [&](const Vec3& grain, double box) {
+            return json{
+                {"domain", {{"lo", {0, 0, 0}}, {"hi", {box, box, box}}}},
+                {"materials",
+                 {{{"name", "iron"}, {"density", 7800}, {"youngs_modulus", 1e9}, {"relative_permeability", 1000}}}},
+                {"magnetic", {{"field", {{"type", "map"}, {"file", dir.file("map.txt")}}}}},
+                {"grains",
+                 {{{"material", "iron"},
+                   {"size", {{"distribution", "single"}, {"diameter", 1e-3}}},
+                   {"placement", {{"method", "list"}, {"positions", {{grain.x, grain.y, grain.z}}}}}}}},
+                {"run", {{"steps", 1}}}};
+        };
+        const Scene inside = build_scene(scene({5e-3, 5e-3, 5e-3}, 10e-3), BuildOptions{});
+        CHECK(inside.warnings.empty());
+        const Scene bigger = build_scene(scene({5e-3, 5e-3, 5e-3}, 30e-3), BuildOptions{});
+        REQUIRE(bigger.warnings.size() == 1);
+        CHECK(bigger.warnings[0].find("beyond the field map") != std::string::npos);
+        try {
+            build_scene(scene({20e-3, 5e-3, 5e-3}, 30e-3), BuildOptions{});
+            FAIL("a grain 10 mm outside the map was accepted");
+        } catch (const SceneError& e) {
+            CHECK(e.path() == "/magnetic/field/file");
+            CHECK(std::string(e.what()).find("does not reach grain 0") != std::string::npos);
+        }
+    }
+
 }  // TEST_SUITE

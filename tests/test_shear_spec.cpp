@@ -8,7 +8,9 @@
 #include "rel_approx.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
+#include "shear/calibration.hpp"
 #include "shear/shear_spec.hpp"
+#include "test_support.hpp"
 
 using mrjam_test::rel;
 
@@ -125,6 +127,31 @@ TEST_SUITE("unit") {
         s.erase("magnetic");
         const Scene without = build_scene(engine_scene(read_shear_spec(s, "quick"), 0.1), BuildOptions{});
         CHECK_FALSE(without.system.magnetic.settings.close_pairs.enabled);
+    }
+
+    // Measured flow curves are plain numbers in SI: a unit in a cell ("41 kPa") was read as 41 Pa.
+    TEST_CASE("calibration data: every field must be a plain number; a header is allowed before the points") {
+        mrjam_test::TempDir dir("mrjam_calib");
+        auto refusal = [&](const std::string& text) {
+            mrjam_test::write_text(dir.file("d.csv"), text);
+            try {
+                read_calibration_data(dir.file("d.csv"));
+            } catch (const SceneError& e) {
+                return std::string(e.what());
+            }
+            return std::string("accepted");
+        };
+        CHECK(refusal("rate,stress\n100,41000\n200,42000,500\n") == "accepted");
+        const std::string unit = refusal("rate,stress\n100,41000\n200,41 kPa\n");
+        CHECK(unit.find("line 3") != std::string::npos);
+        CHECK(unit.find("'kPa' is not a plain number") != std::string::npos);
+        CHECK(refusal("100,41000,5,7\n200,42000\n").find("4 numbers") != std::string::npos);
+        CHECK(refusal("100,41000\n200,4.1e4x\n").find("'4.1e4x'") != std::string::npos);
+        mrjam_test::write_text(dir.file("d.csv"), "# rate stress\n100 41000\n200 42000\n");
+        const CalibrationData d = read_calibration_data(dir.file("d.csv"));
+        REQUIRE(d.points.size() == 2);
+        CHECK(d.points[0].rate == 200);  // sorted by falling rate
+        CHECK(d.points[0].stress == 42000);
     }
 
 }  // TEST_SUITE

@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "forces.hpp"
+#include "terms/magnetic_term.hpp"
 
 namespace mrjam {
 namespace {
@@ -172,6 +174,13 @@ void fail_grain(const System& s, std::size_t i) {
 }  // namespace
 
 void prepare(System& s) {
+    // The magnetic model's state lives in System::magnetic and its forces come from the term:
+    // a System built by hand with one and not the other would run without its forces, or
+    // rebuild pair lists for nothing.
+    if (s.magnetic.enabled != (s.terms.find<MagneticTerm>() != nullptr))
+        throw std::logic_error(s.magnetic.enabled
+                                   ? "System::magnetic is enabled but no MagneticTerm is in the list"
+                                   : "a MagneticTerm is in the list but System::magnetic is not enabled");
     rebuild_neighbours(s);
     // Forces of the present state without advancing any contact spring: the grains have not
     // moved, so the tangential and rolling histories must not grow (dt = 0 adds nothing).

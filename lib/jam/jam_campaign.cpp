@@ -12,6 +12,7 @@
 #include "core/format.hpp"
 #include "jam/continuum_tier.hpp"
 #include "jam/jam_checkpoint.hpp"
+#include "jam/jam_results.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/seed_tally.hpp"
 #include "run/runner.hpp"
@@ -143,9 +144,7 @@ private:
             std::cerr << "[jam] " << (resume_checkpoint.empty() ? "seed " : "resuming seed ") << seed << " (" << k + 1
                       << "/" << seeds_ << ")\n";
         const JamOutcome outcome = run_jam(scene_, seed, seed_options(k, resume_checkpoint));
-        json record = jam_seed_record(outcome);
-        record["seed"] = seed;
-        record["status"] = outcome.report["status"];
+        const json record = jam_seed_record(outcome, seed);
         campaign_["runs"].push_back(record);
         // Each seed's answer as it comes: a campaign of eight seeds runs for hours.
         if (req_.progress && seeds_ > 1 && outcome.exit_status == 0)

@@ -243,9 +243,11 @@ void write_batch_results(nlohmann::json& report, const JamProtocolState& st, con
             "ran out, not because an arch held; lengthen model/upstream_length");
 }
 
-nlohmann::json jam_seed_record(const JamOutcome& outcome) {
+nlohmann::json jam_seed_record(const JamOutcome& outcome, long long seed) {
     const nlohmann::json& r = outcome.report.at("results");
-    return {{"outcome", r["outcome"]},
+    return {{"seed", seed},
+            {"status", outcome.report["status"]},
+            {"outcome", r["outcome"]},
             {"time_to_arrest_s", r["time_to_arrest_s"]},
             {"flux_share_last_window", r.value("flux_share_last_window", nlohmann::json(nullptr))},
             {"grains_passed_before_arrest", r["grains_passed_before_arrest"]},

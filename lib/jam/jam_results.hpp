@@ -14,6 +14,8 @@
 
 namespace mrjam {
 
+struct JamOutcome;  // jam/jam_run.hpp
+
 // The hold (protocol/hold_time): with the field kept on after the arrest, did the grains stay put,
 // and how much fluid does the valve pass at its end? Null until a run has held that long.
 nlohmann::json hold_results(const JamProtocolState& st, const JamProtocol& p, double supply_pressure);
@@ -38,5 +40,18 @@ void write_coupled_slices(nlohmann::json& results, const CoupledFlow& coupled);
 // the warning says so.
 void write_batch_results(nlohmann::json& report, const JamProtocolState& st, const BatchOutlet& outlet,
                          std::size_t grains_left);
+
+// One seed's line in a campaign (`mrjam jam --seeds`, `mrjam design`): the seed, the run's
+// status, outcome, time to arrest, whether it stopped the flow, the hold, the closed valve's leak
+// and the seed's warnings.
+nlohmann::json jam_seed_record(const JamOutcome& outcome, long long seed);
+
+// A seed record as a progress line says it: "fail-no-hold, arrest at 0.64 ms of field, gave way
+// 0.1 ms into the hold", "fail-no-jam, grain flux at 64 % of the no-field flux over the last window".
+std::string seed_summary(const nlohmann::json& record);
+
+// The report's warning when the field anywhere exceeds the lone-grain saturation field (where it
+// does, a stronger field adds nothing to the magnetic forces); empty otherwise.
+std::string saturated_field_warning(const JamScene& scene);
 
 }  // namespace mrjam

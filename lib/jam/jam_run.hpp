@@ -31,16 +31,6 @@ struct JamOutcome {
 
 JamOutcome run_jam(const JamScene& scene, long long seed, const JamRunOptions& options);
 
-// One seed's line in a campaign (`mrjam jam --seeds`, `mrjam design`): outcome, time to arrest,
-// whether it stopped the flow, the hold, the closed valve's leak and the seed's warnings.
-nlohmann::json jam_seed_record(const JamOutcome& outcome);
-
-// A seed record as a progress line says it: "fail-no-hold, arrest at 0.64 ms of field, gave way
-// 0.1 ms into the hold", "fail-no-jam, grain flux at 64 % of the no-field flux over the last window".
-std::string seed_summary(const nlohmann::json& record);
-
-// The report's warning when the field anywhere exceeds the lone-grain saturation field (where it
-// does, a stronger field adds nothing to the magnetic forces); empty otherwise.
-std::string saturated_field_warning(const JamScene& scene);
+// Its seed record and progress line: jam/jam_results.hpp.
 
 }  // namespace mrjam

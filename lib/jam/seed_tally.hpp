@@ -1,6 +1,6 @@
 #pragma once
 // The seeds of one case, as `mrjam jam --seeds N` and `mrjam design` count them from the seed
-// records (jam/jam_run.hpp, jam_seed_record): jams, arrests and their times, and the seeds that
+// records (jam/jam_results.hpp, jam_seed_record): jams, arrests and their times, and the seeds that
 // could not be judged.
 #include <nlohmann/json.hpp>
 #include <vector>

@@ -444,7 +444,10 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         ++batches;
     }
     if (batches == 0) root.fail("grains", "needs at least one batch of grains");
-    if (options.insert_grains) check_initial_overlaps(s, batch_end);
+    if (options.insert_grains) {
+        check_initial_overlaps(s, batch_end);
+        check_field_map_coverage(s, scene.warnings);
+    }
     sort_spatially(s.particles, s.domain);
     // The skin length needs the grain sizes, known once grains exist (choose_timestep).
     scene.skin_fraction = skin_fraction;

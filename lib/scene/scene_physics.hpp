@@ -22,6 +22,9 @@ void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng&
 // The close-pair correction's table, once the grains are placed (r_max: the largest radius).
 void build_close_pair_table(System& s, double r_max);
 void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier);
+// A field map must cover every grain placed (refused at /magnetic/field/file, naming one that it
+// misses); a domain reaching beyond it gets a warning (there the field is the map's edge value).
+void check_field_map_coverage(const System& s, std::vector<std::string>& warnings);
 // The self_gravity block (Barnes-Hut tree or direct summation; refused in a periodic domain).
 SelfGravitySettings read_self_gravity(SceneNode node, const Domain& domain);
 

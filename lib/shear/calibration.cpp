@@ -85,15 +85,35 @@ CalibrationData read_calibration_data(const std::string& path) {
             std::replace(line.begin(), line.end(), ';', ' ');
             const auto s = line.find_first_not_of(" \t\r");
             if (s == std::string::npos || line[s] == '#') continue;
+            // Every field must be a whole number: ">> a >> b" read "41 kPa" as 41 Pa and dropped
+            // the unit. A line without a leading number before the first point is a header.
             std::istringstream fields(line);
-            double a, b, c = 0;
-            if (!(fields >> a >> b)) {
-                if (d.points.empty()) continue;  // a header line
-                throw SceneError("--calibrate",
-                                 path + " line " + std::to_string(number) + ": expected shear rate and stress");
+            std::vector<double> values;
+            std::string token, bad;
+            while (fields >> token) {
+                std::size_t used = 0;
+                double v = 0;
+                try {
+                    v = std::stod(token, &used);
+                } catch (const std::exception&) {
+                    used = 0;
+                }
+                if (used == 0 || used != token.size() || !std::isfinite(v)) {
+                    bad = token;
+                    break;
+                }
+                values.push_back(v);
             }
-            if (!(fields >> c)) c = 0;
-            d.points.push_back({a, b, c});
+            if (values.empty() && d.points.empty()) continue;  // a header line
+            const std::string where = path + " line " + std::to_string(number) + ": ";
+            if (!bad.empty())
+                throw SceneError("--calibrate", where + "'" + bad +
+                                                    "' is not a plain number: give the shear rate in 1/s, the stress "
+                                                    "(and its error) in Pa, without units");
+            if (values.size() < 2 || values.size() > 3)
+                throw SceneError("--calibrate", where + "expected shear rate, stress and an optional error (" +
+                                                    std::to_string(values.size()) + " numbers)");
+            d.points.push_back({values[0], values[1], values.size() == 3 ? values[2] : 0.0});
         }
     }
     check(d, path);
