@@ -60,6 +60,10 @@ struct Scene {
     json resolved;  // the scene with every default filled in, SI numbers
     json fidelity;  // the tier and the defaults it implied
     std::vector<std::string> warnings;
+    // Per /grains batch, the largest starting speed over radius of its grains (1/s; empty for a
+    // resumed scene): once the step is known, a batch that would cross half a radius in a step is
+    // named (the grains are sorted in space after placement, so batches are kept by this).
+    std::vector<double> batch_speed_over_radius;
     long total_steps() const;
 };
 

@@ -8,6 +8,8 @@
 #include "geometry/disc_packing.hpp"
 #include "geometry/packing.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/memory_estimate.hpp"
+#include "scene/plausibility.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_parts.hpp"
 #include "scene/scene_physics.hpp"
@@ -440,6 +442,10 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     std::vector<std::size_t> batch_end;  // one past the last grain of each batch
     for (auto g : root.objects("grains", true)) {
         read_grains(g, scene, names, rng, options.insert_grains);
+        double speed_over_radius = 0;
+        for (std::size_t i = batch_end.empty() ? 0 : batch_end.back(); i < s.particles.size(); ++i)
+            speed_over_radius = std::max(speed_over_radius, norm(s.particles.velocity[i]) / s.particles.radius[i]);
+        scene.batch_speed_over_radius.push_back(speed_over_radius);
         batch_end.push_back(s.particles.size());
         ++batches;
     }
@@ -539,6 +545,8 @@ void choose_timestep(Scene& scene) {
         s.dt = scene.timestep_safety * scene.limits.critical;
     }
     if (const std::string w = drag_limited_step_warning(scene.limits); !w.empty()) scene.warnings.push_back(w);
+    check_pair_memory(s);
+    check_plausible_motion(scene);
     scene.resolved["run"]["timestep_used"] = s.dt;
     // A duration over the step: far more steps than any run could take (kMostSteps) is refused.
     for (Stage& st : scene.stages) {
