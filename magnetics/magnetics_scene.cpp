@@ -100,56 +100,41 @@ nlohmann::json with_default_blocks(const nlohmann::json& scene) {
 
 }  // namespace
 
-MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std::string& tier) {
-    MagneticsScene out;
-    out.tier = tier;
-    const nlohmann::json scene = with_default_blocks(user_scene);
-    SceneNode root(scene, out.resolved, "");
-    root.text("description", "");
-    EpmModel& m = out.request.model;
+namespace {
+
+void read_magnets(SceneNode magnets, const nlohmann::json& scene, const std::string& state, MagnetParameters& mg) {
     const auto L = units::length;
+    mg.width = magnets.quantity("width", L, mg.width, Bounds::any());
+    mg.depth = magnets.quantity("depth", L, mg.depth, Bounds::any());
+    mg.length = magnets.quantity("length", L, mg.length, Bounds::any());
+    mg.spacing = magnets.quantity("spacing", L, mg.spacing, Bounds::any());
+    if (auto n = magnets.optional_object("ndfeb")) read_magnet(*n, mg.ndfeb);
+    // Partial switching defaults the alnico to the source's 1.25 T (with_default_blocks
+    // guarantees the block exists, so only the key's presence matters).
+    if (state == "partial" && !scene["magnets"]["alnico"].contains("remanence")) mg.alnico.remanence = 1.25;
+    if (auto a = magnets.optional_object("alnico")) read_magnet(*a, mg.alnico);
+    magnets.finish();
+}
 
-    m.bracket.variant = variant_from_name(root.choice("variant", variant_names(), "rectangular"));
-    out.state = root.choice("state", {"on", "off", "partial"}, "on");
-    // The valve alone is checked first (its own paths); the EPM's checks follow.
-    if (auto valve = root.optional_object("valve")) m.valve = read_valve(*valve);
-    if (auto magnets = root.optional_object("magnets")) {
-        auto& mg = m.magnets;
-        mg.width = magnets->quantity("width", L, mg.width, Bounds::any());
-        mg.depth = magnets->quantity("depth", L, mg.depth, Bounds::any());
-        mg.length = magnets->quantity("length", L, mg.length, Bounds::any());
-        mg.spacing = magnets->quantity("spacing", L, mg.spacing, Bounds::any());
-        if (auto n = magnets->optional_object("ndfeb")) read_magnet(*n, mg.ndfeb);
-        // Partial switching defaults the alnico to the source's 1.25 T (with_default_blocks
-        // guarantees the block exists, so only the key's presence matters).
-        if (out.state == "partial" && !scene["magnets"]["alnico"].contains("remanence")) mg.alnico.remanence = 1.25;
-        if (auto a = magnets->optional_object("alnico")) read_magnet(*a, mg.alnico);
-        magnets->finish();
-    }
-    m.magnets.alnico_polarity = out.state == "on" ? 1.0 : -1.0;
-    if (out.state == "partial" && m.magnets.alnico.remanence >= m.magnets.ndfeb.remanence)
-        root.fail("state",
-                  "partial switching means the alnico is reversed but weaker than the NdFeB: set "
-                  "magnets/alnico/remanence below magnets/ndfeb/remanence (the source used 1.25 T vs 1.35 T)");
-    if (auto b = root.optional_object("bracket")) {
-        auto& br = m.bracket;
-        br.thickness = b->quantity("thickness", L, br.thickness, Bounds::any());
-        br.width = b->quantity("width", L, br.width, Bounds::any());
-        br.tube_clearance = b->quantity("tube_clearance", L, br.tube_clearance, Bounds::any());
-        br.tip_reach = b->quantity("tip_reach", L, br.tip_reach, Bounds::any());
-        br.chamfer = b->quantity("chamfer", L, br.chamfer, Bounds::any());
-        // A key of another variant's shape would change nothing: refused rather than ignored.
-        if (b->has("cutout_radius") && br.variant != BracketVariant::curved)
-            b->fail("cutout_radius", "shapes the curved variant's cutout only; set \"variant\": \"curved\" or drop it");
-        if (b->has("insert_width") && br.variant != BracketVariant::insert)
-            b->fail("insert_width", "sizes the insert variant's inserts only; set \"variant\": \"insert\" or drop it");
-        br.cutout_radius = b->quantity("cutout_radius", L, br.cutout_radius, Bounds::any());
-        br.insert_width = b->quantity("insert_width", L, br.insert_width, Bounds::any());
-        b->finish();
-    }
-    if (auto mat = root.optional_object("materials")) read_materials(*mat, m.materials);
+void read_bracket(SceneNode b, BracketParameters& br) {
+    const auto L = units::length;
+    br.thickness = b.quantity("thickness", L, br.thickness, Bounds::any());
+    br.width = b.quantity("width", L, br.width, Bounds::any());
+    br.tube_clearance = b.quantity("tube_clearance", L, br.tube_clearance, Bounds::any());
+    br.tip_reach = b.quantity("tip_reach", L, br.tip_reach, Bounds::any());
+    br.chamfer = b.quantity("chamfer", L, br.chamfer, Bounds::any());
+    // A key of another variant's shape would change nothing: refused rather than ignored.
+    if (b.has("cutout_radius") && br.variant != BracketVariant::curved)
+        b.fail("cutout_radius", "shapes the curved variant's cutout only; set \"variant\": \"curved\" or drop it");
+    if (b.has("insert_width") && br.variant != BracketVariant::insert)
+        b.fail("insert_width", "sizes the insert variant's inserts only; set \"variant\": \"insert\" or drop it");
+    br.cutout_radius = b.quantity("cutout_radius", L, br.cutout_radius, Bounds::any());
+    br.insert_width = b.quantity("insert_width", L, br.insert_width, Bounds::any());
+    b.finish();
+}
 
-    // Geometry checks that need the whole description.
+// Geometry checks that need the whole description: the first problem, with the count of the rest.
+void check_geometry(const EpmModel& m) {
     const auto problems = m.problems();
     if (!problems.empty()) {
         const std::string first = problems.front();
@@ -160,11 +145,12 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
                                                                  " more problem(s); fix this one first)"
                                                            : ""));
     }
+}
 
-    const std::string model = root.choice("model", {"circuit", "2d", "3d"}, field_model_name(tier_field_model(tier)));
-    out.request.field_model = model == "circuit" ? FieldModel::circuit
-                              : model == "2d"    ? FieldModel::planar_2d
-                                                 : FieldModel::full_3d;
+// The mesh block over the tier's sizes, refused where the air box or the solve would not be
+// resolved or would not fit.
+MeshSettings read_mesh(SceneNode& root, const EpmModel& m, const std::string& tier, FieldModel field_model) {
+    const auto L = units::length;
     MeshSettings mesh = tier_mesh(tier);
     if (auto node = root.optional_object("mesh")) {
         mesh.fluid_size = node->quantity("fluid_size", L, mesh.fluid_size, Bounds::positive());
@@ -196,7 +182,7 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
         // element of the air box (two in 2D): far beyond it, the solve would run out of memory or
         // time rather than answer (a 2D far_size of 0.01 mm took 13.6 GB), so it is refused
         // before meshing.
-        const bool planar = out.request.field_model == FieldModel::planar_2d;
+        const bool planar = field_model == FieldModel::planar_2d;
         const double dim = planar ? 2 : 3;
         const double fluid = planar ? 37021 * std::pow(0.05e-3 / mesh.fluid_size, dim)
                                     : 1.15e6 * std::pow(0.075e-3 / mesh.fluid_size, dim);
@@ -220,6 +206,40 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
                                                              : std::string()));
         }
     }
+    return mesh;
+}
+
+}  // namespace
+
+MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std::string& tier) {
+    MagneticsScene out;
+    out.tier = tier;
+    const nlohmann::json scene = with_default_blocks(user_scene);
+    SceneNode root(scene, out.resolved, "");
+    root.text("description", "");
+    EpmModel& m = out.request.model;
+    const auto L = units::length;
+
+    m.bracket.variant = variant_from_name(root.choice("variant", variant_names(), "rectangular"));
+    out.state = root.choice("state", {"on", "off", "partial"}, "on");
+    // The valve alone is checked first (its own paths); the EPM's checks follow.
+    if (auto valve = root.optional_object("valve")) m.valve = read_valve(*valve);
+    if (auto magnets = root.optional_object("magnets")) read_magnets(*magnets, scene, out.state, m.magnets);
+    m.magnets.alnico_polarity = out.state == "on" ? 1.0 : -1.0;
+    if (out.state == "partial" && m.magnets.alnico.remanence >= m.magnets.ndfeb.remanence)
+        root.fail("state",
+                  "partial switching means the alnico is reversed but weaker than the NdFeB: set "
+                  "magnets/alnico/remanence below magnets/ndfeb/remanence (the source used 1.25 T vs 1.35 T)");
+    if (auto b = root.optional_object("bracket")) read_bracket(*b, m.bracket);
+    if (auto mat = root.optional_object("materials")) read_materials(*mat, m.materials);
+
+    check_geometry(m);
+
+    const std::string model = root.choice("model", {"circuit", "2d", "3d"}, field_model_name(tier_field_model(tier)));
+    out.request.field_model = model == "circuit" ? FieldModel::circuit
+                              : model == "2d"    ? FieldModel::planar_2d
+                                                 : FieldModel::full_3d;
+    const MeshSettings mesh = read_mesh(root, m, tier, out.request.field_model);
     out.request.mesh = mesh;
     if (auto fm = root.optional_object("field_map")) {
         out.request.map_spacing = fm->quantity("spacing", L, out.request.map_spacing, Bounds::positive());

@@ -79,19 +79,21 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
         for (auto& w : s.walls)
             if (w.name == name) w.velocity = v;
     if (st.flow) s.flow = st.flow;
+    if (st.on_start) st.on_start(s, membership_changes);
 }
 
 // Steps until the next event the step count fixes, at most `left` and at most 64 (so wall-clock
 // checks, progress and Ctrl-C stay responsive); observers are called every `observe_every`
-// steps (0: no observer).
-long steps_until_event(const Scene& scene, long left, long step, long observe_every) {
+// steps of `observe_step` (the run's step, or the stage's; 0: no observer), snapshots and
+// step-counted checkpoints at multiples of the run's `step`.
+long steps_until_event(const Scene& scene, long left, long step, long observe_step, long observe_every) {
     long chunk = std::min(left, 64L);
-    auto limit_to_multiple = [&](long every) {
-        if (every > 0) chunk = std::min(chunk, every - step % every);
+    auto limit_to_multiple = [&](long at, long every) {
+        if (every > 0) chunk = std::min(chunk, every - at % every);
     };
-    limit_to_multiple(observe_every);
-    if (scene.output.snapshots) limit_to_multiple(scene.output.snapshot_every);
-    limit_to_multiple(scene.output.checkpoint_every_steps);
+    limit_to_multiple(observe_step, observe_every);
+    if (scene.output.snapshots) limit_to_multiple(step, scene.output.snapshot_every);
+    limit_to_multiple(step, scene.output.checkpoint_every_steps);
     return std::max(1L, chunk);
 }
 
@@ -226,7 +228,7 @@ private:
         start_stage(s_, st, fresh);
         // A resumed stage keeps the neighbour list and forces of its checkpoint, so the run
         // continues exactly as if it had not stopped.
-        if (fresh) prepare(s_);
+        if (fresh && !st.keep_forces) prepare(s_);
         long i = (k == pos.stage) ? pos.step_in_stage : 0;
         pos = ProtocolPosition{k, i, true};
         bool ended_early = false;
@@ -246,6 +248,10 @@ private:
                               {"end_time_s", s_.time},
                               {"state", state_summary(s_)}});
         pos = ProtocolPosition{k + 1, 0, false};
+        if (options_.checkpoint_each_stage) {
+            write_checkpoint(checkpoint_, scene_.resolved, s_, pos, history());
+            last_checkpoint_ = Clock::now();
+        }
         return !(interrupt_requested() && k + 1 < scene_.stages.size());
     }
 
@@ -256,14 +262,16 @@ private:
     bool step_chunk(std::size_t k, long& i) {
         const Stage& st = scene_.stages[k];
         const bool hooks = observer_ || !options_.modifiers.empty() || options_.stage_finished;
-        const long every = hooks ? std::max(1L, options_.observe_every) : 0;
-        const long chunk = steps_until_event(scene_, st.steps - i, s_.step, every);
+        const bool own = st.observe_every > 0;  // counted from the stage's first step
+        const long every = hooks ? (own ? st.observe_every : std::max(1L, options_.observe_every)) : 0;
+        const long chunk = steps_until_event(scene_, st.steps - i, s_.step, own ? i : s_.step, every);
         grain_steps_ += static_cast<double>(chunk) * static_cast<double>(s_.particles.size());
         advance_steps(s_, chunk);
         i += chunk;
         done_before_ += chunk;
         steps_advanced_ += chunk;
-        if (!(every > 0 && s_.step % every == 0)) return false;
+        const bool due = every > 0 && (own ? i % every == 0 || i == st.steps : s_.step % every == 0);
+        if (!due) return false;
         if (observer_) observer_(s_, k, i);
         for (const Modifier& m : options_.modifiers) m.apply(s_, k);
         if (options_.stage_finished && options_.stage_finished(s_, k)) {

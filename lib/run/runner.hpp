@@ -40,6 +40,9 @@ struct RunOptions {
     //     {"mode": MODE, "stage_log": [...], "state": checkpoint_state()}
     // as its history instead of the bare stage log, so the mode can resume exactly.
     std::function<nlohmann::json()> checkpoint_state;
+    // true: a checkpoint at the end of every stage too, so a finished stage is never run again
+    // (the shear cell's rates); by default only by wall time, step count and on interrupt.
+    bool checkpoint_each_stage = false;
 };
 
 struct RunOutcome {

@@ -1,6 +1,7 @@
 #pragma once
 // A scene read from its JSON file: the system to integrate and the protocol to run on it.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,6 +35,16 @@ struct Stage {
     std::vector<std::string> release;                           // rafts whose grains go free
     std::vector<std::pair<std::string, Vec3>> wall_velocities;
     std::shared_ptr<FlowField> flow;  // null: keep the current flow
+    // A mode's own start actions, after the ones above (the shear cell freezes its rafts and sets
+    // a rate's boundaries). `fresh` is false when a run resumes inside the stage: what changes the
+    // grains is then in the checkpoint already, and only settings are to be applied again.
+    std::function<void(System&, bool fresh)> on_start;
+    // true: a fresh stage goes on from the forces and lists the previous stage left (a stage that
+    // only changes settings, or whose on_start prepares the system itself); false: prepare() first.
+    bool keep_forces = false;
+    // > 0: the observer, modifiers and criterion run every `observe_every` steps counted from the
+    // stage's first step, and at its last; 0: every RunOptions::observe_every steps of the run.
+    long observe_every = 0;
 };
 
 struct OutputPlan {

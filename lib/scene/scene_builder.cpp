@@ -61,6 +61,118 @@ Domain read_domain(SceneNode node) {
 }
 
 // One batch of grains: a material, a size distribution, a placement and initial motion.
+// The placement methods of a /grains batch, each reading its keys and returning the spheres
+// (none when `insert` is false: a resumed scene takes its grains from the checkpoint).
+std::vector<Sphere> place_random(SceneNode& node, SceneNode& place, Scene& scene, const SizeDistribution& sizes,
+                                 Rng& rng, bool insert) {
+    System& s = scene.system;
+    std::vector<Sphere> spheres;
+    const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
+    if (phi > kRandomClosePacking)
+        place.fail("volume_fraction",
+                   "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
+    const Region region = placement_region(place, s.domain);
+    PackingOptions opt;
+    opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+    if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
+        place.fail("region", "the largest grain does not fit inside the insertion region");
+    place.finish();
+    if (insert) {
+        try {
+            const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
+            spheres = r.spheres;
+            if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
+                scene.warnings.push_back(node.path() + ": packed volume fraction " +
+                                         format_number(r.achieved_volume_fraction) + " differs from the requested " +
+                                         format_number(phi));
+        } catch (const std::exception& e) {
+            place.fail("volume_fraction", e.what());
+        }
+    }
+    return spheres;
+}
+
+std::vector<Sphere> place_monolayer(SceneNode& node, SceneNode& place, Scene& scene, const SizeDistribution& sizes,
+                                    Rng& rng, bool insert) {
+    System& s = scene.system;
+    const int mono = s.domain.monolayer_normal;
+    std::vector<Sphere> spheres;
+    const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
+    if (phi > kRandomClosePackingDiscs)
+        place.fail("area_fraction", "cannot exceed random close packing of discs, " +
+                                        format_number(kRandomClosePackingDiscs) +
+                                        "; lower it (0.5 is a loose monolayer)");
+    PackingOptions opt;
+    opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+    place.finish();
+    if (insert) {
+        try {
+            const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
+            spheres = r.discs;
+            if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
+                scene.warnings.push_back(node.path() + ": packed area fraction " +
+                                         format_number(r.achieved_area_fraction) + " differs from the requested " +
+                                         format_number(phi));
+        } catch (const std::exception& e) {
+            place.fail("area_fraction", e.what());
+        }
+    }
+    return spheres;
+}
+
+std::vector<Sphere> place_lattice(SceneNode& node, SceneNode& place, const System& s, const SizeDistribution& sizes,
+                                  bool insert) {
+    std::vector<Sphere> spheres;
+    if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
+        node.fail("size", "lattice placement needs a single grain size");
+    const double diameter = sizes.max_diameter();
+    const double spacing = place.quantity("spacing", units::length, diameter, Bounds::positive());
+    if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + format_number(diameter));
+    const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
+    const Region region = placement_region(place, s.domain);
+    place.finish();
+    if (insert) try {
+            spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
+        } catch (const std::invalid_argument& e) {  // a period shorter than one lattice period
+            place.fail("spacing", e.what());
+        }
+    return spheres;
+}
+
+std::vector<Sphere> place_list(SceneNode& node, SceneNode& place, const System& s, const SizeDistribution& sizes,
+                               bool insert) {
+    const int mono = s.domain.monolayer_normal;
+    std::vector<Sphere> spheres;
+    const json& list = place.raw("positions");
+    if (!list.is_array() || list.empty()) place.fail("positions", "expected a non-empty array of [x, y, z]");
+    if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
+        node.fail("size", "list placement needs a single grain size");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        // Read through a node whose key is the index, so errors name .../positions/<i>/<axis>.
+        const std::string index = std::to_string(i);
+        json out = json::object();
+        json in = {{index, list[i]}};
+        SceneNode item(in, out, place.path_of("positions"));
+        const Vec3 centre = item.vector(index, units::length, std::nullopt);
+        // On a closed axis a centre outside the box is a grain the first step would stop on
+        // as "left the box"; say so here, with the position's path.
+        if (mono >= 0 &&
+            std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) > 1e-9 * s.domain.length()[mono])
+            item.fail(index, std::string("a monolayer's grains lie in its mid-plane: set the ") + char('x' + mono) +
+                                 " coordinate to " + format_number(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) +
+                                 " m");
+        for (int k = 0; k < 3; ++k)
+            if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
+                item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +
+                                     format_number(centre[k]) + " m, box " + format_number(s.domain.lo[k]) + " to " +
+                                     format_number(s.domain.hi[k]) + " m), which is not periodic");
+        spheres.push_back({centre, 0.5 * sizes.max_diameter()});
+    }
+    place.finish();
+    if (!insert) spheres.clear();
+    return spheres;
+}
+
 void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& names, Rng& rng, bool insert) {
     System& s = scene.system;
     const std::uint16_t mat = material_index(node, "material", names, names.front());
@@ -89,94 +201,10 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     const Vec3 v0 = node.vector("velocity", units::velocity, Vec3{});
     const double random_speed = node.quantity("random_velocity", units::velocity, 0.0, Bounds::non_negative());
 
-    std::vector<Sphere> spheres;
-    if (method == "random") {
-        const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
-        if (phi > kRandomClosePacking)
-            place.fail("volume_fraction",
-                       "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
-        const Region region = placement_region(place, s.domain);
-        PackingOptions opt;
-        opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
-        if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
-            place.fail("region", "the largest grain does not fit inside the insertion region");
-        place.finish();
-        if (insert) {
-            try {
-                const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
-                spheres = r.spheres;
-                if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed volume fraction " +
-                                             format_number(r.achieved_volume_fraction) +
-                                             " differs from the requested " + format_number(phi));
-            } catch (const std::exception& e) {
-                place.fail("volume_fraction", e.what());
-            }
-        }
-    } else if (method == "monolayer") {
-        const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
-        if (phi > kRandomClosePackingDiscs)
-            place.fail("area_fraction", "cannot exceed random close packing of discs, " +
-                                            format_number(kRandomClosePackingDiscs) +
-                                            "; lower it (0.5 is a loose monolayer)");
-        PackingOptions opt;
-        opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
-        place.finish();
-        if (insert) {
-            try {
-                const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
-                spheres = r.discs;
-                if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
-                    scene.warnings.push_back(node.path() + ": packed area fraction " +
-                                             format_number(r.achieved_area_fraction) + " differs from the requested " +
-                                             format_number(phi));
-            } catch (const std::exception& e) {
-                place.fail("area_fraction", e.what());
-            }
-        }
-    } else if (method == "lattice") {
-        if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
-            node.fail("size", "lattice placement needs a single grain size");
-        const double diameter = sizes.max_diameter();
-        const double spacing = place.quantity("spacing", units::length, diameter, Bounds::positive());
-        if (spacing < diameter) place.fail("spacing", "must be at least the grain diameter " + format_number(diameter));
-        const std::string lattice = place.choice("lattice", {"cubic", "fcc"}, "cubic");
-        const Region region = placement_region(place, s.domain);
-        place.finish();
-        if (insert) try {
-                spheres = lattice_packing(region, s.domain, diameter, spacing, lattice);
-            } catch (const std::invalid_argument& e) {  // a period shorter than one lattice period
-                place.fail("spacing", e.what());
-            }
-    } else {
-        const json& list = place.raw("positions");
-        if (!list.is_array() || list.empty()) place.fail("positions", "expected a non-empty array of [x, y, z]");
-        if (!sizes.is_discrete() || sizes.discrete_classes().size() != 1)
-            node.fail("size", "list placement needs a single grain size");
-        for (std::size_t i = 0; i < list.size(); ++i) {
-            // Read through a node whose key is the index, so errors name .../positions/<i>/<axis>.
-            const std::string index = std::to_string(i);
-            json out = json::object();
-            json in = {{index, list[i]}};
-            SceneNode item(in, out, place.path_of("positions"));
-            const Vec3 centre = item.vector(index, units::length, std::nullopt);
-            // On a closed axis a centre outside the box is a grain the first step would stop on
-            // as "left the box"; say so here, with the position's path.
-            if (mono >= 0 && std::fabs(centre[mono] - 0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) >
-                                 1e-9 * s.domain.length()[mono])
-                item.fail(index, std::string("a monolayer's grains lie in its mid-plane: set the ") + char('x' + mono) +
-                                     " coordinate to " + format_number(0.5 * (s.domain.lo[mono] + s.domain.hi[mono])) +
-                                     " m");
-            for (int k = 0; k < 3; ++k)
-                if (!s.domain.periodic[k] && (centre[k] < s.domain.lo[k] || centre[k] > s.domain.hi[k]))
-                    item.fail(index, std::string("the centre lies outside the box along ") + char('x' + k) + " (" +
-                                         format_number(centre[k]) + " m, box " + format_number(s.domain.lo[k]) +
-                                         " to " + format_number(s.domain.hi[k]) + " m), which is not periodic");
-            spheres.push_back({centre, 0.5 * sizes.max_diameter()});
-        }
-        place.finish();
-        if (!insert) spheres.clear();
-    }
+    std::vector<Sphere> spheres = method == "random"      ? place_random(node, place, scene, sizes, rng, insert)
+                                  : method == "monolayer" ? place_monolayer(node, place, scene, sizes, rng, insert)
+                                  : method == "lattice"   ? place_lattice(node, place, s, sizes, insert)
+                                                          : place_list(node, place, s, sizes, insert);
     node.finish();
 
     Particles& p = s.particles;
@@ -344,17 +372,8 @@ long Scene::total_steps() const {
     return n;
 }
 
-Scene build_scene(const json& input, const BuildOptions& options) {
-    Scene scene;
-    scene.resolved = json::object();
-    SceneNode root(input, scene.resolved, "");
-    root.text("mode", "run");
-    root.text("description", "");
-    scene.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
-    System& s = scene.system;
-    s.threads = options.threads;
-    s.domain = read_domain(root.object("domain"));
-
+// The materials and their pairs' values; the names, in order, for the blocks that refer to them.
+std::vector<std::string> read_materials(SceneNode& root, System& s) {
     std::vector<std::string> names;
     for (auto m : root.objects("materials", true)) {
         s.materials.push_back(read_material(m));
@@ -365,7 +384,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     if (names.empty()) root.fail("materials", "needs at least one material");
     s.pairs = PairTable(s.materials);
     for (auto pair : root.objects("material_pairs")) read_material_pair(pair, names, s.pairs);
+    return names;
+}
 
+// The contact block, then the force terms whose blocks the scene has.
+void add_force_terms(SceneNode& root, Scene& scene, const BuildOptions& options, const FidelityTier& tier) {
+    System& s = scene.system;
     double pair_damping = 0;
     if (auto c = root.optional_object("contact"))
         read_contact(*c, s.physics, pair_damping);
@@ -389,14 +413,6 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         s.terms.add(
             std::make_unique<GravityTerm>(root.vector("gravity", units::acceleration, std::nullopt), fluid_density));
 
-    const FidelityTier* tier_ptr = nullptr;
-    try {
-        tier_ptr = &fidelity_tier(options.fidelity);
-    } catch (const std::invalid_argument& e) {
-        throw SceneError("--fidelity", e.what());
-    }
-    const FidelityTier& tier = *tier_ptr;
-    scene.fidelity = describe(tier);
     if (auto mag = root.optional_object("magnetic")) {
         read_magnetic(*mag, s, options, tier);
         s.terms.add(std::make_unique<MagneticTerm>());
@@ -404,7 +420,9 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     if (auto sg = root.optional_object("self_gravity"))
         s.terms.add(std::make_unique<SelfGravityTerm>(read_self_gravity(*sg, s.domain)));
     if (pair_damping > 0) s.terms.add(std::make_unique<PairDampingTerm>(pair_damping));
+}
 
+std::vector<std::string> read_walls(SceneNode& root, System& s, const std::vector<std::string>& names) {
     std::vector<std::string> wall_names;
     for (auto w : root.objects("walls")) {
         s.walls.push_back(read_wall(w, names));
@@ -414,6 +432,79 @@ Scene build_scene(const json& input, const BuildOptions& options) {
         if (s.walls.back().name.empty()) w.fail("name", "give the wall a name (stages refer to it)");
         wall_names.push_back(s.walls.back().name);
     }
+    return wall_names;
+}
+
+// Each /grains batch placed, then sorted in space; checked against each other and the field map.
+void place_grains(SceneNode& root, Scene& scene, const std::vector<std::string>& names, const BuildOptions& options) {
+    System& s = scene.system;
+    Rng rng(scene.seed);
+    std::size_t batches = 0;
+    std::vector<std::size_t> batch_end;  // one past the last grain of each batch
+    for (auto g : root.objects("grains", true)) {
+        read_grains(g, scene, names, rng, options.insert_grains);
+        double speed_over_radius = 0;
+        for (std::size_t i = batch_end.empty() ? 0 : batch_end.back(); i < s.particles.size(); ++i)
+            speed_over_radius = std::max(speed_over_radius, norm(s.particles.velocity[i]) / s.particles.radius[i]);
+        scene.batch_speed_over_radius.push_back(speed_over_radius);
+        batch_end.push_back(s.particles.size());
+        ++batches;
+    }
+    if (batches == 0) root.fail("grains", "needs at least one batch of grains");
+    if (options.insert_grains) {
+        check_initial_overlaps(s, batch_end);
+        check_field_map_coverage(s, scene.warnings);
+    }
+    sort_spatially(s.particles, s.domain);
+}
+
+// The stages, or the single stage of /run (steps or duration).
+void read_stages(SceneNode& root, SceneNode& run, Scene& scene, const std::vector<std::string>& wall_names) {
+    auto stage_nodes = root.objects("stages");
+    if (stage_nodes.empty()) {
+        Stage st;
+        st.name = "run";
+        st.path = "/run";
+        if (run.has("steps") == run.has("duration"))
+            run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
+        if (run.has("steps"))
+            st.steps = run.integer("steps", std::nullopt, 0);
+        else
+            st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
+        scene.stages.push_back(std::move(st));
+    } else {
+        std::set<std::string> formed;
+        for (auto st : stage_nodes) {
+            scene.stages.push_back(read_stage(st, scene, wall_names, formed));
+            scene.stages.back().path = "/stages/" + std::to_string(scene.stages.size() - 1);
+        }
+    }
+}
+
+Scene build_scene(const json& input, const BuildOptions& options) {
+    Scene scene;
+    scene.resolved = json::object();
+    SceneNode root(input, scene.resolved, "");
+    root.text("mode", "run");
+    root.text("description", "");
+    scene.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
+    System& s = scene.system;
+    s.threads = options.threads;
+    s.domain = read_domain(root.object("domain"));
+
+    const std::vector<std::string> names = read_materials(root, s);
+
+    const FidelityTier* tier_ptr = nullptr;
+    try {
+        tier_ptr = &fidelity_tier(options.fidelity);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError("--fidelity", e.what());
+    }
+    const FidelityTier& tier = *tier_ptr;
+    scene.fidelity = describe(tier);
+    add_force_terms(root, scene, options, tier);
+
+    const std::vector<std::string> wall_names = read_walls(root, s, names);
 
     SceneNode run = root.object("run");
     scene.characteristic_speed = run.quantity("characteristic_speed", units::velocity, 1.0, Bounds::positive());
@@ -437,46 +528,11 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     // Verlet skin, as a fraction of the mean grain diameter.
     const double skin_fraction = run.number("skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
 
-    Rng rng(scene.seed);
-    std::size_t batches = 0;
-    std::vector<std::size_t> batch_end;  // one past the last grain of each batch
-    for (auto g : root.objects("grains", true)) {
-        read_grains(g, scene, names, rng, options.insert_grains);
-        double speed_over_radius = 0;
-        for (std::size_t i = batch_end.empty() ? 0 : batch_end.back(); i < s.particles.size(); ++i)
-            speed_over_radius = std::max(speed_over_radius, norm(s.particles.velocity[i]) / s.particles.radius[i]);
-        scene.batch_speed_over_radius.push_back(speed_over_radius);
-        batch_end.push_back(s.particles.size());
-        ++batches;
-    }
-    if (batches == 0) root.fail("grains", "needs at least one batch of grains");
-    if (options.insert_grains) {
-        check_initial_overlaps(s, batch_end);
-        check_field_map_coverage(s, scene.warnings);
-    }
-    sort_spatially(s.particles, s.domain);
+    place_grains(root, scene, names, options);
     // The skin length needs the grain sizes, known once grains exist (choose_timestep).
     scene.skin_fraction = skin_fraction;
 
-    auto stage_nodes = root.objects("stages");
-    if (stage_nodes.empty()) {
-        Stage st;
-        st.name = "run";
-        st.path = "/run";
-        if (run.has("steps") == run.has("duration"))
-            run.fail("steps", "give exactly one of 'steps' or 'duration' (or a list of /stages)");
-        if (run.has("steps"))
-            st.steps = run.integer("steps", std::nullopt, 0);
-        else
-            st.duration = run.quantity("duration", units::time, std::nullopt, Bounds::non_negative());
-        scene.stages.push_back(std::move(st));
-    } else {
-        std::set<std::string> formed;
-        for (auto st : stage_nodes) {
-            scene.stages.push_back(read_stage(st, scene, wall_names, formed));
-            scene.stages.back().path = "/stages/" + std::to_string(scene.stages.size() - 1);
-        }
-    }
+    read_stages(root, run, scene, wall_names);
     run.finish();
     if (auto out = root.optional_object("output"))
         read_output(*out, scene.output);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/exit_status.hpp"
 #include "core/format.hpp"
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
@@ -17,6 +18,7 @@
 #include "scene/scene_node.hpp"
 #include "shear/block_average.hpp"
 #include "shear/shear_analysis.hpp"
+#include "shear/shear_progress.hpp"
 #include "shear/shear_stress.hpp"
 #include "timestep.hpp"
 
@@ -98,57 +100,55 @@ void check_engine_accepts(const ShearSpec& spec) {
 
 namespace {
 
+// A study: its cells one after another, each a scene the runner steps through its stages (the
+// magnetisation, then one stage per rate), with this class's observer sampling the chains and
+// the stresses and its typed progress in every checkpoint.
 class Study {
 public:
     Study(const ShearSpec& spec, const ShearOptions& options) : spec_(spec), options_(options), cells_(plan_of(spec)) {}
 
-    // Fresh study: the progress record starts empty.
-    void start() {
-        progress_ = {{"shear_input", spec_.input},
-                     {"tier", spec_.tier},
-                     {"cells", nlohmann::json::array()},
-                     {"current", nullptr}};
-    }
-
-    // Resumed: the progress record and the engine state come from the checkpoint.
+    // Resumed: the progress and, inside a cell, the engine state and the runner's position.
     void resume(const std::string& path) {
         const CheckpointHeader header = read_checkpoint_header(path);
-        progress_ = header.history;
+        const nlohmann::json& state = header.history.at("state");
+        progress_ = StudyProgress::from_json(state.at("progress"));
+        if (!progress_.current) return;  // between cells: the next starts fresh
         BuildOptions build;
         build.threads = options_.threads;
         build.insert_grains = false;
         scene_ = std::make_unique<Scene>(build_scene(header.resolved_scene, build));
         restore_scene(path, *scene_);
-        resumed_ = true;
+        resume_at_ = header.position;
+        resumed_stage_log_ = header.history.at("stage_log");
     }
 
     ShearOutcome run() {
-        t0_ = last_checkpoint_ = last_progress_ = Clock::now();
+        t0_ = Clock::now();
         install_interrupt_handler();
         prepare_output_directory(spec_.output_directory, "/output/directory");
         check_checkpoint_path(checkpoint_path(spec_, options_), "/output/directory");
         ShearOutcome out;
-        try {
-            for (std::size_t c = progress_["cells"].size(); c < cells_.size(); ++c) {
-                if (!run_cell(c)) {
-                    out.status = "interrupted";
-                    out.exit_status = 130;
-                    out.checkpoint = checkpoint_path(spec_, options_);
-                    write_checkpoint_now();
-                    if (options_.progress)
-                        std::fprintf(stderr, "[%s] interrupted; checkpoint written to %s\n", options_.label.c_str(),
-                                     out.checkpoint.c_str());
-                    break;
-                }
+        for (std::size_t c = progress_.cells.size(); c < cells_.size() && out.status == "complete"; ++c) {
+            const RunOutcome cell = run_cell(c);
+            if (cell.exit_status == kExitInterrupted) {
+                out.status = "interrupted";
+                out.exit_status = kExitInterrupted;
+                out.checkpoint = checkpoint_path(spec_, options_);
+                if (options_.progress)
+                    std::fprintf(stderr, "[%s] interrupted; checkpoint written to %s\n", options_.label.c_str(),
+                                 out.checkpoint.c_str());
+            } else if (cell.exit_status != 0) {
+                out.status = "failed";
+                out.error = cell.report.value("error", std::string("the run failed"));
+                out.exit_status = cell.exit_status;
+            } else {
+                finish_cell(c);
             }
-        } catch (const BlowUp& e) {
-            out.status = "failed";
-            out.error = e.what();
-            out.exit_status = 3;
         }
         if (out.status == "complete") discard_checkpoint(checkpoint_path(spec_, options_));
-        out.results = summarise(spec_, progress_["cells"], progress_["current"]);
-        out.engine = progress_.value("engine", nlohmann::json());
+        const nlohmann::json current = progress_.current ? progress_.current->to_json() : nlohmann::json(nullptr);
+        out.results = summarise(spec_, progress_.cells, current);
+        out.engine = progress_.engine;
         out.wall_time = seconds_since(t0_);
         return out;
     }
@@ -199,143 +199,126 @@ private:
                     format_number(spec_.gap() * 1e6) + " um) must hold at least 2.5 of the largest grain drawn (" +
                     format_number(d_max * 1e6) + " um); make the cell higher" +
                     (spec_.lees_edwards ? "" : " or the rafts thinner (/cell/raft_thickness)"));
-        prepare(scene_->system);
     }
 
-    // false: interrupted (state saved by the caller).
-    bool run_cell(std::size_t c) {
-        const CellPlan& plan = cells_[c];
-        nlohmann::json& cur = progress_["current"];
-        if (!resumed_ || cur.is_null()) {
+    // Cell c from its start, or from the checkpoint resume() read.
+    RunOutcome run_cell(std::size_t c) {
+        ProtocolPosition start;
+        nlohmann::json stage_log;
+        if (progress_.current && progress_.current->cell == c && scene_) {
+            start = resume_at_;
+            stage_log = resumed_stage_log_;
+        } else {
             build_cell(c);
-            cur = {{"cell", c},
-                   {"phase", "magnetise"},
-                   {"magnetise_log", nlohmann::json::array()},
-                   {"magnetise_steps", 0},
-                   {"rate_index", 0},
-                   {"step_in_rate", 0},
-                   {"rates", nlohmann::json::array()},
-                   {"samples",
-                    {{"upper", nlohmann::json::array()},
-                     {"lower", nlohmann::json::array()},
-                     {"bulk", nlohmann::json::array()}}},
-                   {"grains", scene_->system.particles.size()},
-                   {"timestep_s", scene_->system.dt}};
+            progress_.current = CellProgress{};
+            progress_.current->cell = c;
+            progress_.current->grains = scene_->system.particles.size();
+            progress_.current->timestep = scene_->system.dt;
         }
-        resumed_ = false;
-        // The first cell's engine scene and step, for the report; kept in the progress record
-        // (so in the checkpoint), since a study resumed past its first cell never builds it.
-        if (c == 0) {
-            progress_["engine"] = {{"inputs", scene_->resolved},
-                                   {"fidelity", scene_->fidelity},
-                                   {"timestep",
-                                    {{"used_s", scene_->system.dt},
-                                     {"critical_s", scene_->limits.critical},
-                                     {"limiting", scene_->limits.limiting},
-                                     {"hertz_s", scene_->limits.hertz}}}};
-        }
-        System& s = scene_->system;
-        if (cur["phase"] == "magnetise") {
-            if (!magnetise(c)) return false;
-            freeze();
-            cur["phase"] = "shear";
-        }
-        for (std::size_t k = cur["rate_index"].get<std::size_t>(); k < plan.rates.size(); ++k) {
-            if (!shear_rate(c, k)) return false;
-            cur["rate_index"] = k + 1;
-            cur["step_in_rate"] = 0;
-            write_checkpoint_now();  // a finished rate is never redone
-        }
-        nlohmann::json done = {
-            {"name", plan.name},    {"flux_density_T", plan.flux_density}, {"grains", s.particles.size()},
-            {"timestep_s", s.dt},   {"rafts", nlohmann::json::array()},    {"magnetisation", cur["magnetisation"]},
-            {"rates", cur["rates"]}};
-        for (const Raft& r : s.rafts) done["rafts"].push_back({{"name", r.name}, {"grains", r.members}});
-        progress_["cells"].push_back(done);
-        cur = nullptr;
-        write_checkpoint_now();
-        return true;
+        // The first cell's engine scene and step, for the report; kept in the progress (so in the
+        // checkpoint), since a study resumed past its first cell never builds it.
+        if (c == 0) progress_.engine = engine_info();
+        set_up_stages(c);
+        RunOptions run;
+        run.mode = options_.label;
+        run.progress = options_.progress;
+        run.resumed_stage_log = stage_log;
+        run.stage_finished = [this](const System&, std::size_t k) { return k == 0 && progress_.current->settled; };
+        run.checkpoint_state = [this] { return checkpoint_state(); };
+        run.checkpoint_each_stage = true;  // a finished rate is never redone
+        return run_protocol(*scene_, run, start, [this, c](const System& s, std::size_t k, long i) {
+            if (k == 0)
+                observe_magnetisation(s, i);
+            else
+                observe_rate(s, c, k - 1, i);
+        });
     }
 
-    // Steps `count` steps in chunks small enough to keep progress and Ctrl-C responsive.
-    bool step(long count, const std::string& what) {
-        System& s = scene_->system;
-        while (count > 0) {
-            const long chunk = std::min(count, 200L);
-            advance_steps(s, chunk);
-            count -= chunk;
-            // The largest overlap seen (sampled at chunk ends): the report shows how far the soft
-            // contacts were pushed.
-            max_overlap_ = std::max(max_overlap_, s.contact_stats.max_overlap_ratio);
-            if (interrupt_requested()) return false;
-            if (seconds_since(last_checkpoint_) > spec_.checkpoint_every_seconds) write_checkpoint_now();
-            if (options_.progress && seconds_since(last_progress_) > spec_.progress_interval) {
-                std::fprintf(stderr, "[%s] %s; t = %.4g s, step %ld, %.0f s elapsed\n", options_.label.c_str(),
-                             what.c_str(), s.time, s.step, seconds_since(t0_));
-                last_progress_ = Clock::now();
-            }
-        }
-        return true;
+    nlohmann::json engine_info() const {
+        return {{"inputs", scene_->resolved},
+                {"fidelity", scene_->fidelity},
+                {"timestep",
+                 {{"used_s", scene_->system.dt},
+                  {"critical_s", scene_->limits.critical},
+                  {"limiting", scene_->limits.limiting},
+                  {"hertz_s", scene_->limits.hertz}}}};
     }
 
-    // Magnetisation criterion: every check_every, the contacts per grain and the mean |cos| of
+    nlohmann::json checkpoint_state() const {
+        return {{"shear_input", spec_.input}, {"tier", spec_.tier}, {"progress", progress_.to_json()}};
+    }
+
+    // The cell's stages: the magnetisation (checked every check_every, ended when settled), then a
+    // stage per rate (sampled samples_per_rate times), and where the runner writes and reports.
+    void set_up_stages(std::size_t c) {
+        const CellPlan& plan = cells_[c];
+        const double dt = scene_->system.dt;
+        char label[96];
+        std::snprintf(label, sizeof label, "cell %zu/%zu (%.0f mT)", c + 1, cells_.size(), plan.flux_density * 1e3);
+        scene_->stages.clear();
+        Stage magnetise;
+        magnetise.name = std::string(label) + ": magnetising";
+        magnetise.steps = static_cast<long>(std::ceil(spec_.magnetise_max / dt));
+        magnetise.observe_every = std::max(1L, static_cast<long>(std::llround(spec_.magnetise_check_every / dt)));
+        scene_->stages.push_back(magnetise);
+        for (std::size_t k = 0; k < plan.rates.size(); ++k) {
+            Stage rate;
+            rate.name = std::string(label) + ": rate " + std::to_string(k + 1) + "/" +
+                        std::to_string(plan.rates.size()) + " (" + format_number(plan.rates[k], 4) + " 1/s)";
+            rate.steps = plan.steps[k] > 0
+                             ? plan.steps[k]
+                             : std::max(1L, static_cast<long>(std::ceil(plan.strains[k] / plan.rates[k] / dt)));
+            rate.observe_every = std::max(1L, rate.steps / spec_.samples_per_rate);
+            rate.keep_forces = true;  // a rate changes settings only; the first prepares after freezing
+            rate.on_start = [this, k, v = plan.wall_speeds[k]](System& s, bool fresh) { start_rate(s, k, v, fresh); };
+            scene_->stages.push_back(rate);
+        }
+        OutputPlan& out = scene_->output;
+        out.directory = spec_.output_directory;
+        out.checkpoint_path = checkpoint_path(spec_, options_);
+        out.checkpoint_every_seconds = spec_.checkpoint_every_seconds;
+        out.checkpoint_every_steps = 0;
+        out.snapshots = false;
+        out.progress_interval_s = spec_.progress_interval;
+    }
+
+    // Magnetisation criterion: at every check, the contacts per grain and the mean |cos| of
     // contact normals to the field are recorded; the chains have settled when, over the last
     // `window` checks, each varies by less than `tolerance` of its mean (and min_duration has
     // passed). max_duration stops it regardless, and the report says so.
-    bool magnetise(std::size_t c) {
-        System& s = scene_->system;
-        nlohmann::json& cur = progress_["current"];
-        const long check_steps = std::max(1L, static_cast<long>(std::llround(spec_.magnetise_check_every / s.dt)));
-        const long max_steps = static_cast<long>(std::ceil(spec_.magnetise_max / s.dt));
-        const long min_steps = static_cast<long>(std::ceil(spec_.magnetise_min / s.dt));
-        nlohmann::json& log = cur["magnetise_log"];
-        max_overlap_ = 0;
-        long done = cur["magnetise_steps"].get<long>();
-        bool settled = false;
-        while (done < max_steps) {
-            const long n = std::min(check_steps - done % check_steps, max_steps - done);
-            char what[160];
-            std::snprintf(what, sizeof what, "cell %zu/%zu (%.0f mT): magnetising", c + 1, cells_.size(),
-                          cells_[c].flux_density * 1e3);
-            const long before = s.step;
-            const bool ok = step(n, what);
-            done += s.step - before;
-            cur["magnetise_steps"] = done;
-            // A check due at this step is made even when Ctrl-C came: the resumed run starts past
-            // it and would otherwise never make it (and might settle at another time).
-            if (done % check_steps != 0 && done < max_steps) {
-                if (!ok) return false;
-                continue;
-            }
-            const ChainState cs = chain_state(s, spec_.field_direction);
-            log.push_back(
-                {{"time_s", s.time}, {"contacts_per_grain", cs.contacts_per_grain}, {"mean_abs_cos", cs.mean_abs_cos}});
-            if (done >= min_steps && static_cast<int>(log.size()) >= spec_.magnetise_window) {
-                auto spread = [&](const char* key) {
-                    double lo = 1e300, hi = -1e300, sum = 0;
-                    for (std::size_t k = log.size() - spec_.magnetise_window; k < log.size(); ++k) {
-                        const double v = log[k][key].get<double>();
-                        lo = std::min(lo, v);
-                        hi = std::max(hi, v);
-                        sum += v;
-                    }
-                    const double mean = sum / spec_.magnetise_window;
-                    return mean > 0 ? (hi - lo) / mean : 0.0;
-                };
-                if (spread("contacts_per_grain") < spec_.magnetise_tolerance &&
-                    spread("mean_abs_cos") < spec_.magnetise_tolerance) {
-                    settled = true;
-                    break;
-                }
-            }
-            if (!ok) return false;
-        }
+    void observe_magnetisation(const System& s, long step_in_stage) {
+        CellProgress& cur = *progress_.current;
+        cur.max_overlap = std::max(cur.max_overlap, s.contact_stats.max_overlap_ratio);
+        cur.magnetise_steps = step_in_stage;
         const ChainState cs = chain_state(s, spec_.field_direction);
-        cur["magnetisation"] = {
-            {"settled", settled},
-            {"max_overlap_ratio_seen", max_overlap_},
-            {"duration_s", done * s.dt},
-            {"steps", done},
+        cur.magnetise_log.push_back({s.time, cs.contacts_per_grain, cs.mean_abs_cos});
+        const long min_steps = static_cast<long>(std::ceil(spec_.magnetise_min / s.dt));
+        const auto window = static_cast<std::size_t>(spec_.magnetise_window);
+        if (step_in_stage < min_steps || cur.magnetise_log.size() < window) return;
+        auto spread = [&](double MagnetiseCheck::*value) {
+            double lo = 1e300, hi = -1e300, sum = 0;
+            for (std::size_t k = cur.magnetise_log.size() - window; k < cur.magnetise_log.size(); ++k) {
+                const double v = cur.magnetise_log[k].*value;
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+                sum += v;
+            }
+            const double mean = sum / window;
+            return mean > 0 ? (hi - lo) / mean : 0.0;
+        };
+        cur.settled = spread(&MagnetiseCheck::contacts_per_grain) < spec_.magnetise_tolerance &&
+                      spread(&MagnetiseCheck::mean_abs_cos) < spec_.magnetise_tolerance;
+    }
+
+    // The magnetisation's record, once it has ended (settled or at max_duration).
+    void record_magnetisation(const System& s) {
+        CellProgress& cur = *progress_.current;
+        const ChainState cs = chain_state(s, spec_.field_direction);
+        cur.magnetisation = {
+            {"settled", cur.settled},
+            {"max_overlap_ratio_seen", cur.max_overlap},
+            {"duration_s", cur.magnetise_steps * s.dt},
+            {"steps", cur.magnetise_steps},
             {"contacts_per_grain", cs.contacts_per_grain},
             {"mean_abs_cos_to_field", cs.mean_abs_cos},
             {"criterion", "contacts per grain and mean |cos| of contact normals to the field each vary by less than " +
@@ -344,15 +327,31 @@ private:
                               format_number(spec_.magnetise_check_every) + " s, after at least " +
                               format_number(spec_.magnetise_min) + " s; at most " + format_number(spec_.magnetise_max) +
                               " s"}};
-        if (!settled && options_.progress)
+        if (!cur.settled && options_.progress)
             std::fprintf(stderr, "[%s] warning: chains had not settled after %.3g s (max_duration); shearing anyway\n",
-                         options_.label.c_str(), done * s.dt);
-        return true;
+                         options_.label.c_str(), cur.magnetise_steps * s.dt);
+    }
+
+    // Rate k's start: the first ends the magnetisation and freezes the rafts; every rate sets its
+    // boundaries and flow (again on resume: the checkpoint does not hold the flow).
+    void start_rate(System& s, std::size_t k, double wall_speed, bool fresh) {
+        if (fresh) {
+            CellProgress& cur = *progress_.current;
+            if (k == 0) {
+                record_magnetisation(s);
+                freeze(s);
+            }
+            cur.upper.clear();
+            cur.lower.clear();
+            cur.bulk.clear();
+            cur.max_overlap = 0;
+        }
+        apply_rate(s, wall_speed);
+        rate_started_ = Clock::now();
     }
 
     // The top and bottom layers (grain centres within raft_thickness of a wall) become rafts.
-    void freeze() {
-        System& s = scene_->system;
+    void freeze(System& s) const {
         s.rafts.clear();
         if (spec_.lees_edwards) return;  // no rafts: the sliding images shear the cell
         s.rafts.push_back(Raft{"lower", {}, {}, 0});
@@ -371,9 +370,7 @@ private:
         prepare(s);
     }
 
-    // Settings of rate k (re-applied on resume: the checkpoint does not hold the flow).
-    void apply_rate(double v) {
-        System& s = scene_->system;
+    void apply_rate(System& s, double v) const {
         if (spec_.lees_edwards) {
             // The image above moves at rate Z = 2 v (v = rate Z / 2, the "wall speed" of the
             // ladder); the fluid follows the affine profile through the whole periodic height.
@@ -390,62 +387,39 @@ private:
                                                Vec3{-v, 0, 0}, Vec3{v, 0, 0});
     }
 
-    bool shear_rate(std::size_t c, std::size_t k) {
-        System& s = scene_->system;
-        const CellPlan& plan = cells_[c];
-        nlohmann::json& cur = progress_["current"];
-        apply_rate(plan.wall_speeds[k]);
-        const long total = plan.steps[k] > 0
-                               ? plan.steps[k]
-                               : std::max(1L, static_cast<long>(std::ceil(plan.strains[k] / plan.rates[k] / s.dt)));
-        const long every = std::max(1L, total / spec_.samples_per_rate);
-        long i = cur["step_in_rate"].get<long>();
-        if (i == 0)
-            cur["samples"] = {{"upper", nlohmann::json::array()},
-                              {"lower", nlohmann::json::array()},
-                              {"bulk", nlohmann::json::array()}};
-        const auto t_rate = Clock::now();
-        max_overlap_ = 0;
-        while (i < total) {
-            const long n = std::min(every - i % every, total - i);
-            char what[200];
-            std::snprintf(what, sizeof what,
-                          "cell %zu/%zu (%.0f mT): rate %zu/%zu (%.4g 1/s), step %ld/%ld, last stress %.4g kPa", c + 1,
-                          cells_.size(), plan.flux_density * 1e3, k + 1, plan.rates.size(), plan.rates[k], i, total,
-                          cur["samples"]["upper"].empty() ? 0.0 : cur["samples"]["upper"].back().get<double>() * 1e-3);
-            const long before = s.step;
-            const bool ok = step(n, what);
-            i += s.step - before;
-            cur["step_in_rate"] = i;
-            // A sample due at this step is taken even when Ctrl-C came, before the checkpoint:
-            // the resumed run starts past it and would otherwise lose it.
-            if (i % every == 0 || i == total) {
-                ShearStress st;
-                if (spec_.lees_edwards) {
-                    // No rafts: the flow-curve stress is the virial of the whole periodic box.
-                    st.bulk = st.upper = lees_edwards_stress(s);
-                } else {
-                    st = shear_stress(s, 1, 0, wall_index("top"), wall_index("bottom"), spec_.raft_thickness,
-                                      spec_.cell.z - spec_.raft_thickness);
-                }
-                cur["samples"]["upper"].push_back(st.upper);
-                if (!spec_.lees_edwards) cur["samples"]["lower"].push_back(st.lower);
-                cur["samples"]["bulk"].push_back(st.bulk);
-            }
-            if (!ok) return false;
+    // A stress sample (every total/samples_per_rate steps and at the rate's last), and at its last
+    // step the rate's record.
+    void observe_rate(const System& s, std::size_t c, std::size_t k, long step_in_stage) {
+        CellProgress& cur = *progress_.current;
+        cur.max_overlap = std::max(cur.max_overlap, s.contact_stats.max_overlap_ratio);
+        ShearStress st;
+        if (spec_.lees_edwards) {
+            // No rafts: the flow-curve stress is the virial of the whole periodic box.
+            st.bulk = st.upper = lees_edwards_stress(s);
+        } else {
+            st = shear_stress(s, 1, 0, wall_index(s, "top"), wall_index(s, "bottom"), spec_.raft_thickness,
+                              spec_.cell.z - spec_.raft_thickness);
         }
-        auto window = [&](const char* key) {
-            const auto all = cur["samples"][key].get<std::vector<double>>();
+        cur.upper.push_back(st.upper);
+        if (!spec_.lees_edwards) cur.lower.push_back(st.lower);
+        cur.bulk.push_back(st.bulk);
+        if (step_in_stage == scene_->stages[k + 1].steps) record_rate(s, c, k, step_in_stage);
+    }
+
+    void record_rate(const System& s, std::size_t c, std::size_t k, long total) {
+        CellProgress& cur = *progress_.current;
+        const CellPlan& plan = cells_[c];
+        auto window = [&](const std::vector<double>& all) {
             const std::size_t keep =
                 std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(all.size() * spec_.window_fraction)));
             return block_average(std::vector<double>(all.end() - std::min(keep, all.size()), all.end()), spec_.blocks);
         };
-        const BlockAverage up = window("upper"), bulk = window("bulk");
+        const BlockAverage up = window(cur.upper), bulk = window(cur.bulk);
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
                                {"strain", total * s.dt * plan.rates[k]},
-                               {"sample_every_steps", every},
+                               {"sample_every_steps", scene_->stages[k + 1].observe_every},
                                {"stress_Pa", up.mean},
                                {"error_Pa", up.error},
                                {"blocks", up.blocks},
@@ -453,59 +427,71 @@ private:
                                {"stress_source", spec_.lees_edwards ? "virial of the Lees-Edwards box" : "upper raft"},
                                {"bulk_stress_Pa", bulk.mean},
                                {"bulk_error_Pa", bulk.error},
-                               {"series_upper_Pa", cur["samples"]["upper"]},
-                               {"max_overlap_ratio_seen", max_overlap_},
-                               {"wall_time_s", seconds_since(t_rate)}};
+                               {"series_upper_Pa", cur.upper},
+                               {"max_overlap_ratio_seen", cur.max_overlap},
+                               {"wall_time_s", seconds_since(rate_started_)}};
         if (!spec_.lees_edwards) {
-            const BlockAverage lo = window("lower");
+            const BlockAverage lo = window(cur.lower);
             rate["lower_raft_stress_Pa"] = lo.mean;
             rate["lower_raft_error_Pa"] = lo.error;
         }
-        cur["rates"].push_back(rate);
+        cur.rates.push_back(rate);
         if (options_.progress)
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
-        return true;
     }
 
-    int wall_index(const std::string& name) const {
-        const auto& w = scene_->system.walls;
-        for (std::size_t k = 0; k < w.size(); ++k)
-            if (w[k].name == name) return static_cast<int>(k);
+    static int wall_index(const System& s, const std::string& name) {
+        for (std::size_t k = 0; k < s.walls.size(); ++k)
+            if (s.walls[k].name == name) return static_cast<int>(k);
         return -1;
     }
 
-    void write_checkpoint_now() {
-        if (!scene_) return;
-        write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, scene_->system, ProtocolPosition{},
-                         progress_);
-        last_checkpoint_ = Clock::now();
+    // A finished cell: its record joins the study's, and a checkpoint between cells keeps it.
+    void finish_cell(std::size_t c) {
+        const CellProgress& cur = *progress_.current;
+        const System& s = scene_->system;
+        nlohmann::json done = {
+            {"name", cells_[c].name}, {"flux_density_T", cells_[c].flux_density}, {"grains", s.particles.size()},
+            {"timestep_s", s.dt},     {"rafts", nlohmann::json::array()},         {"magnetisation", cur.magnetisation},
+            {"rates", cur.rates}};
+        for (const Raft& r : s.rafts) done["rafts"].push_back({{"name", r.name}, {"grains", r.members}});
+        progress_.cells.push_back(done);
+        progress_.current.reset();
+        const nlohmann::json history = {
+            {"mode", options_.label}, {"stage_log", nlohmann::json::array()}, {"state", checkpoint_state()}};
+        write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, s,
+                         ProtocolPosition{scene_->stages.size(), 0, false}, history);
     }
 
     const ShearSpec& spec_;
     ShearOptions options_;
     std::vector<CellPlan> cells_;
-    nlohmann::json progress_;
+    StudyProgress progress_;
     std::unique_ptr<Scene> scene_;
-    bool resumed_ = false;
-    double max_overlap_ = 0;
-    Clock::time_point t0_, last_checkpoint_, last_progress_;
+    ProtocolPosition resume_at_;
+    nlohmann::json resumed_stage_log_;
+    Clock::time_point t0_, rate_started_;
 };
-
 }  // namespace
 
 ShearOutcome run_shear_study(const ShearSpec& spec, const ShearOptions& options) {
     Study study(spec, options);
-    study.start();
     return study.run();
 }
 
 ShearOutcome resume_shear_study(const std::string& checkpoint, const ShearOptions& options, ShearSpec& spec_out) {
     const CheckpointHeader header = read_checkpoint_header(checkpoint);
-    if (!header.history.contains("shear_input"))
+    if (header.history.contains("shear_input"))  // the progress as a JSON object of its own, before the run loop
+        throw SceneError("--resume", checkpoint +
+                                         " was written by an older mrjam (a shear checkpoint of before the shared "
+                                         "run loop); rerun the study from its scene");
+    const nlohmann::json* state =
+        header.history.is_object() && header.history.contains("state") ? &header.history["state"] : nullptr;
+    if (!state || !state->contains("shear_input"))
         throw SceneError("--resume", checkpoint + " is not a shear checkpoint (it was written by another mode)");
-    spec_out = read_shear_spec(header.history["shear_input"], header.history["tier"].get<std::string>());
+    spec_out = read_shear_spec((*state)["shear_input"], (*state)["tier"].get<std::string>());
     Study study(spec_out, options);
     study.resume(checkpoint);
     return study.run();
