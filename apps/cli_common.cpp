@@ -132,6 +132,9 @@ int run_cli(CLI::App& app, int argc, char** argv, const int& exit_status) {
     } catch (const BlowUp& e) {
         std::cerr << "error: " << e.what() << "\n";
         return kExitBlowUp;
+    } catch (const SetupInterrupted& e) {
+        std::cerr << "[mrjam] " << e.what() << "\n";
+        return kExitInterrupted;
     } catch (const std::exception& e) {
         std::cerr << "error: " << e.what() << "\n";
         return kExitError;

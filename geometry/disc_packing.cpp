@@ -164,6 +164,7 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
     };
     // Random sequential addition.
     for (std::size_t i = 0; i < n; ++i) {
+        if (i % 1024 == 0) check_cancelled(options);
         double best[2] = {0, 0}, best_worst = INFINITY;
         for (int t = 0; t < kInsertionTries; ++t) {
             double c[2];
@@ -184,6 +185,7 @@ DiscPackingResult random_disc_packing(const Domain& domain, int normal, const Si
     // Collective rearrangement (Gauss-Seidel sweeps over overlapping pairs).
     DiscPackingResult out;
     for (;;) {
+        check_cancelled(options);
         grid.clear();
         for (std::size_t i = 0; i < n; ++i) grid.insert(static_cast<int>(i), x[i].data());
         double worst = 0;

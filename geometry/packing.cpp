@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/exit_status.hpp"
+
 namespace mrjam {
 
 namespace {
@@ -148,8 +150,9 @@ public:
     }
 
     // Random sequential addition, largest first; unplaceable grains go to their least bad try.
-    void insert_all() {
+    void insert_all(const PackingOptions& options) {
         for (int i = 0; i < size(); ++i) {
+            if (i % 1024 == 0) check_cancelled(options);
             Vec3 best{};
             double best_ratio = std::numeric_limits<double>::infinity();
             for (int t = 0; t < kInsertionTries && best_ratio > 0.0; ++t) {
@@ -167,9 +170,10 @@ public:
 
     // Collective rearrangement until the worst overlap ratio is below tol. Returns the sweeps
     // used, or -1 if max_sweeps were not enough (final_ratio() then says how far off it was).
-    int relax(double tol, int max_sweeps) {
+    int relax(double tol, int max_sweeps, const PackingOptions& options) {
         double sweep_max = std::numeric_limits<double>::infinity();
         for (int sweep = 0;; ++sweep) {
+            check_cancelled(options);
             rebuild_grids();
             // A Gauss-Seidel sweep sees partly moved grains, so its own maximum is only a hint;
             // confirm on a fresh grid before declaring success.
@@ -376,6 +380,11 @@ private:
 
 }  // namespace
 
+void check_cancelled(const PackingOptions& options) {
+    if (options.cancelled && options.cancelled())
+        throw SetupInterrupted("interrupted while placing the grains (nothing was run, so there is nothing to resume)");
+}
+
 PackingResult random_packing(const Region& region, const Domain& domain, const SizeDistribution& sizes,
                              double volume_fraction, Rng& rng, const PackingOptions& options) {
     validate(region, domain, volume_fraction);
@@ -387,8 +396,8 @@ PackingResult random_packing(const Region& region, const Domain& domain, const S
     if (diameters.empty()) return result;  // region smaller than about half a grain
 
     Packer packer(region, domain, std::move(diameters), rng);
-    packer.insert_all();
-    const int sweeps = packer.relax(options.overlap_tolerance, options.max_sweeps);
+    packer.insert_all(options);
+    const int sweeps = packer.relax(options.overlap_tolerance, options.max_sweeps, options);
     if (sweeps < 0)
         throw std::runtime_error("could not reach volume fraction " + fmt(volume_fraction) +
                                  " (worst overlap / radius still " + fmt(packer.final_ratio()) + " after " +

@@ -1,6 +1,7 @@
 #pragma once
 // Initial grain configurations: random packings at a target solid volume fraction and
 // regular lattices, inside an insertion Region of a Domain (minimum image on periodic axes).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,13 @@ struct Sphere {
 struct PackingOptions {
     double overlap_tolerance = 1e-3;  // max overlap / smaller radius accepted
     int max_sweeps = 20000;           // relaxation sweeps before giving up
+    // Asked every 1024 insertions and every sweep; true stops the packing with SetupInterrupted
+    // (core/exit_status.hpp). The scene passes Ctrl-C's flag.
+    std::function<bool()> cancelled;
 };
+
+// Throws SetupInterrupted when the options' cancel check says so.
+void check_cancelled(const PackingOptions& options);
 
 struct PackingResult {
     std::vector<Sphere> spheres;          // largest first

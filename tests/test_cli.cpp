@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -620,6 +621,24 @@ TEST_SUITE("cli") {
                     CHECK(r.err.find("longer than the rest") != std::string::npos);
             }
         }
+    }
+
+    // A long set-up (packing a million grains takes minutes) answered Ctrl-C only at the first step.
+    TEST_CASE("cli: SIGINT while the grains are being packed stops at once with 130, saying nothing was run") {
+        TempDir dir;
+        json scene = small_scene();
+        scene["domain"]["hi"] = {"60 mm", "60 mm", "60 mm"};  // about 1.2 million grains of 1 mm at 0.3
+        write_text(dir.file("big.json"), scene.dump(2));
+        const auto t0 = std::chrono::steady_clock::now();
+        const Result cut =
+            mrjam(dir, "run " + quote(dir.file("big.json")) + " --report " + quote(dir.file("big_report.json")),
+                  " & pid=$!; sleep 1; kill -INT $pid; wait $pid");
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        CAPTURE(cut.err);
+        CHECK(cut.exit_code == 130);
+        CHECK(cut.err.find("interrupted while placing the grains") != std::string::npos);
+        CHECK(seconds < 10);  // the packing alone takes far longer
+        CHECK_FALSE(fs::exists(dir.file("big_report.json")));
     }
 
     TEST_CASE("cli: SIGINT writes a checkpoint and exits 130; resuming it ends where the full run ends") {

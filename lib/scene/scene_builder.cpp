@@ -5,8 +5,10 @@
 #include <set>
 #include <sstream>
 
+#include "core/exit_status.hpp"
 #include "geometry/disc_packing.hpp"
 #include "geometry/packing.hpp"
+#include "run/interrupt.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/memory_estimate.hpp"
 #include "scene/plausibility.hpp"
@@ -74,6 +76,7 @@ std::vector<Sphere> place_random(SceneNode& node, SceneNode& place, Scene& scene
     const Region region = placement_region(place, s.domain);
     PackingOptions opt;
     opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+    opt.cancelled = interrupt_requested;  // Ctrl-C during a long packing stops it at once
     if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
         place.fail("region", "the largest grain does not fit inside the insertion region");
     place.finish();
@@ -85,6 +88,8 @@ std::vector<Sphere> place_random(SceneNode& node, SceneNode& place, Scene& scene
                 scene.warnings.push_back(node.path() + ": packed volume fraction " +
                                          format_number(r.achieved_volume_fraction) + " differs from the requested " +
                                          format_number(phi));
+        } catch (const SetupInterrupted&) {
+            throw;
         } catch (const std::exception& e) {
             place.fail("volume_fraction", e.what());
         }
@@ -104,6 +109,7 @@ std::vector<Sphere> place_monolayer(SceneNode& node, SceneNode& place, Scene& sc
                                         "; lower it (0.5 is a loose monolayer)");
     PackingOptions opt;
     opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+    opt.cancelled = interrupt_requested;  // Ctrl-C during a long packing stops it at once
     place.finish();
     if (insert) {
         try {
@@ -113,6 +119,8 @@ std::vector<Sphere> place_monolayer(SceneNode& node, SceneNode& place, Scene& sc
                 scene.warnings.push_back(node.path() + ": packed area fraction " +
                                          format_number(r.achieved_area_fraction) + " differs from the requested " +
                                          format_number(phi));
+        } catch (const SetupInterrupted&) {
+            throw;
         } catch (const std::exception& e) {
             place.fail("area_fraction", e.what());
         }
