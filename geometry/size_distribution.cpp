@@ -1,7 +1,5 @@
 #include "geometry/size_distribution.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -10,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "core/physical_memory.hpp"
 
 namespace mrjam {
 
@@ -21,8 +21,7 @@ namespace {
 constexpr double kMostGrains = 1e8;       // whatever the memory: past it a run would take weeks
 constexpr double kBytesPerGrain = 2.5e3;  // the measured 2 kB, with room for the larger cutoffs
 double most_grains_in_memory() {
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    const double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * page : 0.0;
+    const double memory = physical_memory_bytes();
     return memory > 0 ? std::min(kMostGrains, memory / kBytesPerGrain) : kMostGrains;
 }
 

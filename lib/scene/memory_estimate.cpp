@@ -1,11 +1,10 @@
 #include "scene/memory_estimate.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "core/format.hpp"
+#include "core/physical_memory.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
@@ -42,11 +41,6 @@ PairMemoryEstimate estimate_pair_memory(const System& s) {
     e.bytes =
         kBytesPerGrain * p.size() + kBytesPerContactPair * e.contact_pairs + kBytesPerMagneticPair * e.magnetic_pairs;
     return e;
-}
-
-double physical_memory_bytes() {
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    return pages > 0 && page > 0 ? static_cast<double>(pages) * page : 0.0;
 }
 
 void check_pair_memory(const System& s) {

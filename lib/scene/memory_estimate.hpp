@@ -2,6 +2,7 @@
 // What a scene's pair lists will take, bounded before they are built: a shear cell of sub-micron
 // grains with the source's 8 um magnetic reach grew to 24 GB, because the grain-count limit
 // (geometry/size_distribution.cpp) counts about 2 kB a grain and not the pairs a long cutoff lists.
+#include "core/physical_memory.hpp"
 #include "system.hpp"
 
 namespace mrjam {
@@ -14,9 +15,6 @@ struct PairMemoryEstimate {
 // An upper bound: each grain's neighbours within its list's cutoff (mean grain, skin included) at
 // a dense packing (volume fraction 0.64), at most every other grain.
 PairMemoryEstimate estimate_pair_memory(const System& s);
-
-// The machine's physical memory in bytes (0 if unknown).
-double physical_memory_bytes();
 
 // Refuses (SceneError at /magnetic/cutoff when the magnetic list dominates, else /grains) a scene
 // whose estimate exceeds 80 % of the physical memory.

@@ -244,18 +244,19 @@ void check_field_map_coverage(const System& s, std::vector<std::string>& warning
                format_number(hi.y) + ", z " + format_number(lo.z) + ".." + format_number(hi.z) + " m";
     };
     const double tol = 1e-9 * std::max(1.0, norm(hi - lo));
+    auto inside = [&](const Vec3& x) {
+        return x.x >= lo.x - tol && x.y >= lo.y - tol && x.z >= lo.z - tol && x.x <= hi.x + tol && x.y <= hi.y + tol &&
+               x.z <= hi.z + tol;
+    };
     for (std::size_t i = 0; i < s.particles.size(); ++i) {
         const Vec3& x = s.particles.position[i];
-        if (x.x < lo.x - tol || x.y < lo.y - tol || x.z < lo.z - tol || x.x > hi.x + tol || x.y > hi.y + tol ||
-            x.z > hi.z + tol)
+        if (!inside(x))
             throw SceneError("/magnetic/field/file",
                              "the field map (" + box() + ") does not reach grain " + std::to_string(i) + " at (" +
                                  format_number(x.x) + ", " + format_number(x.y) + ", " + format_number(x.z) +
                                  "); solve the map over the whole domain, or move the grains into it");
     }
-    const Vec3 dlo = s.domain.lo, dhi = s.domain.hi;
-    if (dlo.x < lo.x - tol || dlo.y < lo.y - tol || dlo.z < lo.z - tol || dhi.x > hi.x + tol || dhi.y > hi.y + tol ||
-        dhi.z > hi.z + tol)
+    if (!inside(s.domain.lo) || !inside(s.domain.hi))
         warnings.push_back("the domain reaches beyond the field map (" + box() +
                            "): a grain that leaves the map feels the field of the map's nearest edge");
 }

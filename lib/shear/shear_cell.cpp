@@ -448,7 +448,8 @@ private:
         return -1;
     }
 
-    // A finished cell: its record joins the study's, and a checkpoint between cells keeps it.
+    // A finished cell: its record joins the study's, and (unless it was the last) a checkpoint
+    // between cells keeps it.
     void finish_cell(std::size_t c) {
         const CellProgress& cur = *progress_.current;
         const System& s = scene_->system;
@@ -459,6 +460,7 @@ private:
         for (const Raft& r : s.rafts) done["rafts"].push_back({{"name", r.name}, {"grains", r.members}});
         progress_.cells.push_back(done);
         progress_.current.reset();
+        if (c + 1 == cells_.size()) return;  // the study is complete: run() deletes the checkpoint
         const nlohmann::json history = {
             {"mode", options_.label}, {"stage_log", nlohmann::json::array()}, {"state", checkpoint_state()}};
         write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, s,
