@@ -76,9 +76,15 @@ std::string getdp_problem_text(const ProblemRequest& p) {
         }
         o << "  br[" << r.name << "] = " << vector_text(r.remanence) << ";\n";
     }
-    o << "}\n\n";
-    o << "Constraint { { Name PhiZero; Case { { Region Boundary; Value 0.; } } } }\n\n";
-    o << "Jacobian { { Name Vol; Case { { Region All; Jacobian Vol; } } } }\n";
+    const Vec3& h0 = p.applied_field;
+    o << "  phi_applied[] = -(" << number(h0.x) << " * X[] + " << number(h0.y) << " * Y[] + " << number(h0.z)
+      << " * Z[]);\n}\n\n";
+    // The applied potential is linear, which the nodal functions carry exactly: the second-order
+    // (edge) coefficients on the boundary are zero.
+    o << "Constraint { { Name PhiApplied; Case { { Region Boundary; Value phi_applied[]; } } }\n"
+         "  { Name EdgeZero; Case { { Region Boundary; Value 0.; } } } }\n\n";
+    o << "Jacobian { { Name Vol; Case { { Region All; Jacobian " << (p.axisymmetric ? "VolAxi" : "Vol")
+      << "; } } } }\n";
     o << "Integration { { Name Gauss2; Case { { Type Gauss; Case {\n"
          "  { GeoElement Triangle; NumberOfPoints 4; } { GeoElement Tetrahedron; NumberOfPoints 4; }\n"
          "  { GeoElement Line; NumberOfPoints 3; } } } } } }\n\n";
@@ -88,8 +94,8 @@ std::string getdp_problem_text(const ProblemRequest& p) {
          "    { Name sn; NameOfCoef phin; Function BF_Node; Support Domain; Entity NodesOf[All]; }\n"
          "    { Name se; NameOfCoef phie; Function BF_Node_2E; Support Domain; Entity EdgesOf[All]; } }\n"
          "  Constraint {\n"
-         "    { NameOfCoef phin; EntityType NodesOf; NameOfConstraint PhiZero; }\n"
-         "    { NameOfCoef phie; EntityType EdgesOf; NameOfConstraint PhiZero; } } } }\n\n";
+         "    { NameOfCoef phin; EntityType NodesOf; NameOfConstraint PhiApplied; }\n"
+         "    { NameOfCoef phie; EntityType EdgesOf; NameOfConstraint EdgeZero; } } } }\n\n";
     const std::string mu_of = saturating.empty() ? "mu[]" : "mu[-{d phi}]";
     o << "Formulation { { Name Magnetostatics; Type FemEquation;\n"
          "  Quantity { { Name phi; Type Local; NameOfSpace Hphi; } }\n"
@@ -272,10 +278,14 @@ Solution solve_with_getdp(const ProblemRequest& p, const fs::path& work_dir, con
     }
     // -v 4 makes GetDP log the iteration count, which is how non-convergence is detected: it
     // returns 0 even when CG stops at the iteration limit.
-    const ChildResult run = run_child({getdp, pro.string(), "-msh", mesh_file.string(), "-solve", "Magnetostatics",
-                                       "-pos", "Report", "-v", "4", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_rtol",
-                                       number(p.solver_tolerance), "-ksp_max_it", std::to_string(kMaxSolverIterations)},
-                                      log);
+    std::vector<std::string> argv{
+        getdp, pro.string(), "-msh", mesh_file.string(), "-solve", "Magnetostatics", "-pos", "Report", "-v", "4"};
+    if (p.direct_solver)
+        argv.insert(argv.end(), {"-ksp_type", "preonly", "-pc_type", "lu"});
+    else
+        argv.insert(argv.end(), {"-ksp_type", "cg", "-pc_type", "icc", "-ksp_rtol", number(p.solver_tolerance),
+                                 "-ksp_max_it", std::to_string(kMaxSolverIterations)});
+    const ChildResult run = run_child(argv, log);
     const int status = run.wait_status;
     if (run.stopped_by_us) throw SolverError("getdp was stopped: mrjam was interrupted");
     // Ctrl-C in a terminal reaches GetDP as well (the whole process group): the handler in this

@@ -32,6 +32,11 @@ struct LineRequest {
 
 struct ProblemRequest {
     int dimension = 3;
+    // 2D only: the mesh's x is the radius and y the axis of a body of revolution (GetDP's VolAxi).
+    bool axisymmetric = false;
+    // The uniform field the truncation boundary imposes, phi = -H0 . x there (A/m); zero for a
+    // device that makes its own field.
+    Vec3 applied_field{0, 0, 0};
     std::vector<RegionMaterial> regions;  // every meshed region (air included)
     int boundary_region = 0;
     std::vector<int> measured_regions;  // volume, mean |B|, mean |B|^2, max |B| reported for each
@@ -39,6 +44,9 @@ struct ProblemRequest {
     bool section = false;               // |B| on the plane z = 0 (3D: a cut; 2D: the whole mesh)
     std::vector<LineRequest> lines;
     double solver_tolerance = 1e-10;  // relative residual of CG
+    // LU instead of CG: for small 2D problems whose saturated iron leaves CG with incomplete
+    // Cholesky stalling (the sphere pair deep in saturation).
+    bool direct_solver = false;
     int nonlinear_iterations = 40;
     double nonlinear_tolerance = 1e-5;
 };

@@ -51,7 +51,7 @@ struct Pair {
         model.settings.tolerance = 1e-13;
         model.settings.max_iterations = 1000;
         model.settings.cutoff_scale = 3.0;
-        model.settings.close_pairs = {corrected, 0.01, 1.0};
+        model.settings.close_pairs = {corrected, ClosePairModel::linear, 0.01, 1.0};
         if (corrected) model.close_pair_table = ClosePairTable(mu, model.settings.close_pairs);
         domain.lo = {-1, -1, -1};
         domain.hi = {1, 1, 1};

@@ -87,7 +87,7 @@ TEST_SUITE("cli") {
     TEST_CASE("cli: a magnetic scene with the close-pair correction runs and says which table it used") {
         TempDir dir;
         json s = magnetic_scene();
-        s["magnetic"]["close_pairs"] = {{"min_gap", 0.05}};
+        s["magnetic"]["close_pairs"] = {{"model", "linear"}, {"min_gap", 0.05}};
         const Result r = run_scene(dir, "close_pairs", s);
         CAPTURE(r.err);
         REQUIRE(r.exit_code == 0);
@@ -127,13 +127,14 @@ TEST_SUITE("cli") {
         }
         {
             json s = magnetic_scene();
-            s["magnetic"]["close_pairs"] = {{"min_gap", 0.5}, {"range", 0.3}};  // nothing left between them
+            s["magnetic"]["close_pairs"] = {
+                {"model", "linear"}, {"min_gap", 0.5}, {"range", 0.3}};  // nothing left between them
             expect_refused(dir, "close_pairs_inverted", s, "/magnetic/close_pairs/range");
         }
         {
             json s = magnetic_scene();
             s["magnetic"]["cutoff"] = {{"diameters", 1.2}};  // reaches a gap of 0.8 radii
-            s["magnetic"]["close_pairs"] = {{"range", 1.0}};
+            s["magnetic"]["close_pairs"] = {{"model", "linear"}, {"range", 1.0}};
             const Result r = expect_refused(dir, "close_pairs_beyond_cutoff", s, "/magnetic/close_pairs/range");
             CHECK(r.err.find("cutoff") != std::string::npos);
         }

@@ -108,7 +108,7 @@ TEST_SUITE("unit") {
     TEST_CASE("shear scene: magnetic/close_pairs reaches the engine and is checked there") {
         json s = base_scene();
         s["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"raft_thickness", "8 um"}};
-        s["magnetic"] = {{"close_pairs", {{"min_gap", 0.05}}}};
+        s["magnetic"] = {{"close_pairs", {{"model", "linear"}, {"min_gap", 0.05}}}};
         const ShearSpec spec = read_shear_spec(s, "quick");
         Scene with = build_scene(engine_scene(spec, 0.1), BuildOptions{});
         choose_timestep(with);  // builds the pair lists and the correction's table, as the cell does

@@ -12,6 +12,8 @@ void add_magnetic_bench_commands(CLI::App& bench, int& exit_status);
 void add_flow_bench_command(CLI::App& bench, int& exit_status);
 // sphere-pair (bench/src/bench_sphere_pair.cpp): the point dipoles' error between close spheres.
 void add_sphere_pair_bench_command(CLI::App& bench, int& exit_status);
+// sphere-pair-fem (bench/src/bench_sphere_pair_fem.cpp): the saturating pair force by finite elements.
+void add_sphere_pair_fem_bench_command(CLI::App& bench, int& exit_status);
 // gravity (bench/src/bench_gravity.cpp): the self-gravity tree's error and cost against direct summation.
 void add_gravity_bench_command(CLI::App& bench, int& exit_status);
 

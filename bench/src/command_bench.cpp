@@ -444,6 +444,7 @@ void add_bench_commands(CLI::App& bench, int& exit_status) {
     add_magnetic_bench_commands(bench, exit_status);
     add_flow_bench_command(bench, exit_status);
     add_sphere_pair_bench_command(bench, exit_status);
+    add_sphere_pair_fem_bench_command(bench, exit_status);
     add_gravity_bench_command(bench, exit_status);
 }
 

@@ -128,7 +128,9 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     json magnetic_json = {{"field", in.field}};
     if (in.cutoff_diameters > 0) magnetic_json["cutoff"] = {{"diameters", in.cutoff_diameters}};
     if (in.magnetic_update_interval > 1) magnetic_json["update_interval"] = in.magnetic_update_interval;
-    if (in.close_pairs_min_gap > 0) magnetic_json["close_pairs"] = {{"min_gap", in.close_pairs_min_gap}};
+    if (in.close_pairs_min_gap > 0)
+        magnetic_json["close_pairs"] = {{"model", "linear"}, {"min_gap", in.close_pairs_min_gap}};
+    if (in.close_pairs_saturating) magnetic_json["close_pairs"] = {{"model", "saturating"}};
     json run_json = {{"timestep", "auto"}, {"characteristic_speed", std::max(throat_speed, 0.1)}};
     if (in.neighbour_skin > 0) run_json["skin"] = in.neighbour_skin;
     json fluid_json = {{"viscosity", in.viscosity}, {"flow", flow_json}};

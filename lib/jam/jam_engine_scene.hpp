@@ -20,7 +20,8 @@ struct JamEngineInputs {
     nlohmann::json field;                                // the engine's magnetic/field block
     double cutoff_diameters = 0;                         // the dipoles' cutoff; 0 leaves the engine tier's
     long long magnetic_update_interval = 1;              // steps between magnetic evaluations
-    double close_pairs_min_gap = 0;                      // the close-pair correction's floor in radii; 0: off
+    double close_pairs_min_gap = 0;                      // the linear close-pair correction's floor in radii; 0: off
+    bool close_pairs_saturating = false;                 // the saturating close-pair correction
     long long flow_lookup_interval = 1;                  // steps between carrier-flow lookups at the grains
     double neighbour_skin = 0;                           // Verlet skin, of the mean diameter (0: the engine's)
     bool frictionless_slab = true;                       // model/slab_faces

@@ -157,9 +157,18 @@ ModelBlock read_model_block(SceneNode model, const json& scene, const TierSettin
                                   : 0.0;
     // Steps between magnetic evaluations (held in between; docs/magnetic_forces.md measures the cost).
     engine.magnetic_update_interval = model.integer("magnetic_update_interval", ts.magnetic_interval, 1, 100);
-    // Close pairs: the exact two-sphere force near contact instead of the point dipoles' alone,
-    // above a floor on the gap in radii (docs/magnetic_forces.md, "Close pairs"). Off by default:
-    // the source's model is point dipoles.
+    // Close pairs: the two-sphere force near contact on top of the point dipoles
+    // (docs/magnetic_forces.md, "Close pairs"). Off by default: the source's model is point
+    // dipoles. `close_pairs: "saturating"` takes the finite-element table of saturating iron;
+    // `close_pairs_min_gap` the linear pair above that floor.
+    if (model.has("close_pairs") && model.has("close_pairs_min_gap"))
+        model.fail("close_pairs_min_gap",
+                   "is the linear model's floor; give close_pairs \"saturating\" or "
+                   "close_pairs_min_gap (the linear model), not both");
+    if (model.has("close_pairs")) {
+        model.choice("close_pairs", {"saturating"}, std::nullopt);
+        engine.close_pairs_saturating = true;
+    }
     engine.close_pairs_min_gap = model.has("close_pairs_min_gap")
                                      ? model.number("close_pairs_min_gap", std::nullopt, Bounds::closed(0.005, 0.5))
                                      : 0.0;

@@ -105,17 +105,25 @@ void set_magnetic_constants(const Material& m, Particles& p, std::size_t i, Rng&
 // magnetic list must reach the correction's range for the smallest and largest grains.
 void build_close_pair_table(System& s, double r_max) {
     const Particles& p = s.particles;
-    double beta = -1, r_min = r_max;
+    double beta = -1, ms = -1, r_min = r_max;
     for (std::size_t i = 0; i < p.size(); ++i) {
         r_min = std::min(r_min, p.radius[i]);
         if (p.induced_coefficient[i] <= 0) continue;
-        const double b = p.induced_coefficient[i] / (4.0 * M_PI * std::pow(p.radius[i], 3));
-        if (beta < 0)
+        const double volume_over = std::pow(p.radius[i], 3);
+        const double b = p.induced_coefficient[i] / (4.0 * M_PI * volume_over);
+        const double m = p.saturation_moment[i] / (4.0 / 3.0 * M_PI * volume_over);
+        if (beta < 0) {
             beta = b;
-        else if (std::abs(b - beta) > 1e-9 * beta)
+            ms = m;
+        } else if (std::abs(b - beta) > 1e-9 * beta) {
             throw SceneError("/magnetic/close_pairs",
                              "the correction is tabulated for one permeability, and the grains' "
                              "materials differ in relative_permeability; give them one, or drop close_pairs");
+        } else if (std::abs(m - ms) > 1e-9 * ms) {
+            throw SceneError("/magnetic/close_pairs/model",
+                             "the saturating table is in H / M_s for one M_s, and the grains' materials differ in "
+                             "saturation_magnetisation; give them one, or use the linear model");
+        }
     }
     if (beta <= 0)
         throw SceneError("/magnetic/close_pairs",
@@ -126,7 +134,38 @@ void build_close_pair_table(System& s, double r_max) {
             throw SceneError("/magnetic/close_pairs/range", "the magnetic cutoff does not reach a gap of " +
                                                                 format_number(cs.range) +
                                                                 " radii; lengthen the cutoff or shorten the range");
-    s.magnetic.close_pair_table = ClosePairTable((1.0 + 2.0 * beta) / (1.0 - beta), cs);
+    const double mu = (1.0 + 2.0 * beta) / (1.0 - beta);
+    if (cs.model == ClosePairModel::saturating && !(ms < 1e12))
+        throw SceneError("/magnetic/close_pairs/model",
+                         "the saturating model needs the grains' saturation magnetisation, and these grains have "
+                         "none (saturation switched off); switch it on or use the linear model");
+    if (cs.model == ClosePairModel::saturating && std::abs(mu - kSaturatingPairPermeability) > 1e-6 * mu)
+        throw SceneError("/magnetic/close_pairs/model",
+                         "the saturating pair table was solved for iron of relative_permeability " +
+                             format_number(kSaturatingPairPermeability) + ", not " + format_number(mu) +
+                             "; give the grains that permeability, use the linear model, or solve a table for it "
+                             "(mrjam-bench sphere-pair-fem --permeability ... --table-out)");
+    s.magnetic.close_pair_table = ClosePairTable(mu, cs, ms);
+}
+
+// The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").
+void read_close_pairs(SceneNode close, ClosePairSettings& cp) {
+    cp.enabled = true;
+    // No default: the two models differ by an order of magnitude at contact.
+    const std::string model = close.choice("model", {"saturating", "linear"}, std::nullopt);
+    cp.model = model == "saturating" ? ClosePairModel::saturating : ClosePairModel::linear;
+    if (cp.model == ClosePairModel::saturating) {
+        if (close.has("min_gap"))
+            close.fail("min_gap",
+                       "is the linear model's floor; the saturating model's force is capped by the "
+                       "iron's saturation and needs none: drop it");
+        cp.range = close.number("range", cp.range, Bounds::closed(0.1, 1.0));
+    } else {
+        cp.min_gap = close.number("min_gap", cp.min_gap, Bounds::closed(0.005, 1.0));
+        cp.range = close.number("range", cp.range, Bounds::closed(0.1, 4.0));
+        if (!(cp.range > cp.min_gap)) close.fail("range", "must exceed min_gap (both are surface gaps in radii)");
+    }
+    close.finish();
 }
 
 void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const FidelityTier& tier) {
@@ -187,15 +226,7 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     if (converged || node.has("max_iterations"))
         st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
     mag.hold.interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
-    if (auto close = node.optional_object("close_pairs")) {
-        // The two-body correction for nearly touching grains (docs/magnetic_forces.md, "Close pairs").
-        st.close_pairs.enabled = true;
-        st.close_pairs.min_gap = close->number("min_gap", st.close_pairs.min_gap, Bounds::closed(0.005, 1.0));
-        st.close_pairs.range = close->number("range", st.close_pairs.range, Bounds::closed(0.1, 4.0));
-        if (!(st.close_pairs.range > st.close_pairs.min_gap))
-            close->fail("range", "must exceed min_gap (both are surface gaps in radii)");
-        close->finish();
-    }
+    if (auto close = node.optional_object("close_pairs")) read_close_pairs(*close, st.close_pairs);
     if (auto cut = node.optional_object("cutoff")) {
         const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
         if (given != 1) cut->fail("diameters", "give exactly one of 'diameters', 'beyond_contact' or 'length'");

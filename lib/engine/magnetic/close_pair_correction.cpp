@@ -17,11 +17,48 @@ namespace {
 
 constexpr int kTablePoints = 96;  // in log(gap): linear interpolation within 0.1 % (tests)
 
+// The finite-element table: kSatGaps (radii), kSatFieldsOverMs, and per field a row over the
+// gaps of the force coefficient F / (mu0 H0^2 a^2) and the polarisability.
+#include "magnetic/saturating_pair_table.inc"
+
+constexpr int kSatGapCount = sizeof(kSatGaps) / sizeof(kSatGaps[0]);
+constexpr int kSatFieldCount = sizeof(kSatFieldsOverMs) / sizeof(kSatFieldsOverMs[0]);
+
+// Position of x on an ascending grid: the cell index and the fraction into it (clamped to the ends).
+std::pair<int, double> locate(const std::vector<double>& grid, double x) {
+    const auto above = std::upper_bound(grid.begin(), grid.end(), x);
+    const int k = std::clamp(static_cast<int>(above - grid.begin()) - 1, 0, static_cast<int>(grid.size()) - 2);
+    return {k, std::clamp((x - grid[k]) / (grid[k + 1] - grid[k]), 0.0, 1.0)};
+}
+
 }  // namespace
 
-ClosePairTable::ClosePairTable(double mu, const ClosePairSettings& settings)
-    : mu_(mu), min_gap_(settings.min_gap), range_(settings.range) {
+const double kSaturatingPairPermeability = kSatPermeability;
+
+const char* close_pair_model_name(ClosePairModel model) {
+    return model == ClosePairModel::saturating ? "saturating" : "linear";
+}
+
+DipolePairCoefficients capped_dipole_pair(double mu, double s, double h_over_ms) {
+    const double beta = (mu - 1) / (mu + 2);
+    // m = 4 pi beta (H0 + the partner's axial field 2 m / (4 pi s^3)), in a^3 H0; if that exceeds
+    // the cap M_s V, so does the right side at the cap, and both moments sit at it.
+    const double m = std::min(4 * M_PI * beta / (1 - 2 * beta / (s * s * s)), 4 * M_PI / 3 / h_over_ms);
+    return {-6 * m * m / (4 * M_PI * std::pow(s, 4)), 2 * m / (4 * M_PI)};
+}
+
+ClosePairTable::ClosePairTable(double mu, const ClosePairSettings& settings, double saturation_magnetisation)
+    : mu_(mu),
+      min_gap_(settings.model == ClosePairModel::saturating ? kSatGaps[0] : settings.min_gap),
+      range_(settings.range),
+      saturation_(saturation_magnetisation),
+      model_(settings.model) {
     if (!(min_gap_ > 0) || !(range_ > min_gap_)) throw std::invalid_argument("close pairs: need 0 < min_gap < range");
+    if (model_ == ClosePairModel::saturating && (std::abs(mu - kSatPermeability) > 1e-6 * kSatPermeability ||
+                                                 !(saturation_ > 0) || range_ > kSatGaps[kSatGapCount - 1]))
+        throw std::invalid_argument("saturating close pairs: tabulated for relative permeability " +
+                                    std::to_string(kSatPermeability) + ", M_s > 0 and a range up to " +
+                                    std::to_string(kSatGaps[kSatGapCount - 1]) + " radii");
     const double lo = std::log(min_gap_), hi = std::log(range_);
     for (int k = 0; k < kTablePoints; ++k) {
         const double log_gap = lo + (hi - lo) * k / (kTablePoints - 1);
@@ -43,9 +80,43 @@ ClosePairTable::ClosePairTable(double mu, const ClosePairSettings& settings)
         log_gap_.push_back(log_gap);
         rows_.push_back(c);
     }
+    if (model_ == ClosePairModel::saturating) build_saturating_grid();
 }
 
-ClosePairTable::Correction ClosePairTable::at(double gap) const {
+// The finite-element force is near a power law in gap and field (attraction at every node), so
+// its logarithm is what is interpolated; the moment is smooth as it is.
+void ClosePairTable::build_saturating_grid() {
+    for (double g : kSatGaps) sat_log_gap_.push_back(std::log(g));
+    for (double h : kSatFieldsOverMs) sat_log_field_.push_back(std::log(h));
+    for (int f = 0; f < kSatFieldCount; ++f)
+        for (int g = 0; g < kSatGapCount; ++g) {
+            if (!(kSatForce[f][g] < 0)) throw std::logic_error("saturating pair table: a node does not attract");
+            sat_rows_.push_back({std::log(-kSatForce[f][g]), 0, kSatPolarisability[f][g], 0});
+        }
+}
+
+// Bilinear in (log gap, log H/M_s), less the engine's own capped dipole pair at the same gap
+// and field. Above the grid's top field the iron is saturated, its moment fixed: the force
+// stays, so its coefficient per H^2 falls as (H_top / H)^2 and the polarisability as H_top / H.
+void ClosePairTable::saturating_axial(double gap, double axial_field, Correction& c) const {
+    const double h = std::max(axial_field / saturation_, 1e-12);
+    const double top = kSatFieldsOverMs[kSatFieldCount - 1];
+    const double g_clamped = std::max(gap, kSatGaps[0]);
+    const auto [g, tg] = locate(sat_log_gap_, std::log(g_clamped));
+    const auto [f, tf] = locate(sat_log_field_, std::log(std::clamp(h, kSatFieldsOverMs[0], top)));
+    const auto at = [&](int fi, int gi) -> const Correction& { return sat_rows_[fi * kSatGapCount + gi]; };
+    const auto blend = [&](double Correction::*m) {
+        const double low = at(f, g).*m + tg * (at(f, g + 1).*m - at(f, g).*m);
+        const double high = at(f + 1, g).*m + tg * (at(f + 1, g + 1).*m - at(f + 1, g).*m);
+        return low + tf * (high - low);
+    };
+    const double over = h > top ? top / h : 1.0;
+    const DipolePairCoefficients dip = capped_dipole_pair(mu_, 2.0 + g_clamped, h);
+    c.dalpha_axial = (-std::exp(blend(&Correction::dalpha_axial)) * over * over - dip.force) / (2 * M_PI);
+    c.alpha_axial = blend(&Correction::alpha_axial) * over - dip.polarisability;
+}
+
+ClosePairTable::Correction ClosePairTable::at(double gap, double axial_field) const {
     if (log_gap_.empty() || gap >= range_) return {};
     const double g = std::max(gap, min_gap_);
     const double u = (std::log(g) - log_gap_.front()) / (log_gap_.back() - log_gap_.front()) * (kTablePoints - 1);
@@ -56,8 +127,14 @@ ClosePairTable::Correction ClosePairTable::at(double gap) const {
     // Fade out over the last half of the range so the force has no step where it ends.
     const double fade = std::clamp((range_ - gap) / (0.5 * range_), 0.0, 1.0);
     const auto mix = [&](double x, double y) { return fade * (x + t * (y - x)); };
-    return {mix(a.dalpha_axial, b.dalpha_axial), mix(a.dalpha_transverse, b.dalpha_transverse),
-            mix(a.alpha_axial, b.alpha_axial), mix(a.alpha_transverse, b.alpha_transverse)};
+    Correction c{mix(a.dalpha_axial, b.dalpha_axial), mix(a.dalpha_transverse, b.dalpha_transverse),
+                 mix(a.alpha_axial, b.alpha_axial), mix(a.alpha_transverse, b.alpha_transverse)};
+    if (model_ == ClosePairModel::saturating) {
+        saturating_axial(gap, axial_field, c);
+        c.dalpha_axial *= fade;
+        c.alpha_axial *= fade;
+    }
+    return c;
 }
 
 // From the pair's co-energy W' = 2 pi mu0 a^3 H^2 (alpha_ax cos^2 theta + alpha_tr sin^2 theta),
@@ -67,9 +144,9 @@ Vec3 close_pair_force(const ClosePairTable& table, const Vec3& d, double a, cons
     const double r = norm(d), h2 = norm2(h);
     if (r == 0.0 || h2 == 0.0) return {};
     const double s = r / a;
-    const ClosePairTable::Correction c = table.at(s - 2.0);
     const Vec3 rhat = d * (1.0 / r), hhat = h * (1.0 / std::sqrt(h2));
     const double cos_t = dot(rhat, hhat), cos2 = cos_t * cos_t, sin2 = 1.0 - cos2;
+    const ClosePairTable::Correction c = table.at(s - 2.0, std::sqrt(h2) * std::abs(cos_t));
     const double scale = 2.0 * M_PI * kMu0 * h2 * a * a;
     const double along = scale * (cos2 * c.dalpha_axial + sin2 * c.dalpha_transverse);
     // sin(theta) t_hat = rhat cos(theta) - hhat: no division by sin(theta) on the axis.

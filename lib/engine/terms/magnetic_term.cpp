@@ -57,7 +57,8 @@ void MagneticTerm::summarise(const System& s, nlohmann::json& summary) const {
                         {"applied_field", m.field->name()}};
     const ClosePairSettings& cp = m.settings.close_pairs;
     j["close_pairs"] = cp.enabled
-                           ? nlohmann::json{{"min_gap_radii", cp.min_gap},
+                           ? nlohmann::json{{"model", close_pair_model_name(cp.model)},
+                                            {"min_gap_radii", m.close_pair_table.min_gap()},
                                             {"range_radii", cp.range},
                                             {"relative_permeability", m.close_pair_table.relative_permeability()}}
                            : nlohmann::json(nullptr);
