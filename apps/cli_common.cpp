@@ -1,5 +1,8 @@
 #include "cli_common.hpp"
 
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -12,6 +15,12 @@
 #include "scene/scene_node.hpp"
 
 namespace mrjam::cli {
+
+void ensure_passive_openmp_wait(char** argv) {
+    if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
+    if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
+    execv("/proc/self/exe", argv);
+}
 
 nlohmann::json read_json_file(const std::string& path) {
     if (std::filesystem::is_directory(path)) throw SceneError(path, "is a directory: give the scene's JSON file");

@@ -22,6 +22,14 @@ using mrjam::kExitInterrupted;
 inline constexpr std::uintmax_t kMostSceneBytes = std::uintmax_t{256} << 20;
 inline constexpr std::size_t kMostSceneDepth = 64;
 
+// OpenMP threads that spin at their barriers (libgomp's default) collapse when the machine has
+// other work: two threads beside two busy jobs ran the chained magnetic bench 15 times slower
+// than one thread. Unless the user chose a policy (OMP_WAIT_POLICY or GOMP_SPINCOUNT), this sets
+// the passive one and re-executes the program, because libgomp reads it only when it loads (the
+// process keeps its pid; if /proc/self/exe cannot be run, the program goes on as it is).
+// docs/benchmarks.md, "Threads on a busy machine", measures both policies.
+void ensure_passive_openmp_wait(char** argv);
+
 // Parses a JSON file; throws SceneError with the file name and the parser's position.
 nlohmann::json read_json_file(const std::string& path);
 

@@ -5,6 +5,7 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
+    mrjam::cli::ensure_passive_openmp_wait(argv);
     CLI::App app{"mrjam " MRJAM_VERSION " - magnetorheological valve jamming design tool (DEM + magnetostatics)"};
     app.set_version_flag("--version", "mrjam " MRJAM_VERSION);
     app.require_subcommand(1);

@@ -6,6 +6,7 @@
 #include "cli_common.hpp"
 
 int main(int argc, char** argv) {
+    mrjam::cli::ensure_passive_openmp_wait(argv);
     CLI::App app{"mrjam-bench " MRJAM_VERSION " - benchmarks of the mrjam engine (timing, not tests)"};
     app.set_version_flag("--version", "mrjam-bench " MRJAM_VERSION);
     app.require_subcommand(1);
