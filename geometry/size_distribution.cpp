@@ -69,6 +69,9 @@ SizeDistribution::Discrete SizeDistribution::make_discrete(std::vector<double> d
         d.diameters.push_back(diameters[i]);
         d.fractions.push_back(fractions[i] / total);
     }
+    // Every class zero (a mixture whose parts weigh nothing, found by fuzzing): no distribution.
+    if (d.fractions.empty() || !(total > 0.0) || !std::isfinite(total))
+        throw std::invalid_argument("SizeDistribution: no size class has a positive, finite fraction");
     d.cdf = running_sum(d.fractions);
     return d;
 }

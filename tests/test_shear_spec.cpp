@@ -56,6 +56,18 @@ TEST_SUITE("unit") {
         CHECK(spec.largest_diameter == rel(10e-6));
     }
 
+    // Found by fuzzing (scripts/fuzz.sh): a part whose diameter's cube overflows left the merged
+    // table with no class, and the sampler's cumulative table was read past its end.
+    TEST_CASE("shear scene: a mixture whose classes all weigh nothing is refused by path") {
+        json s = base_scene();
+        const json absurd = {{"distribution", "table"},
+                             {"basis", "number"},
+                             {"diameters", {"1e111 m", "2e111 m"}},
+                             {"frequencies", {0.5, 0.5}}};
+        s["size"] = {{"distribution", "mixture"}, {"parts", {{{"share", 100}, {"size", absurd}}}}};
+        CHECK_THROWS_WITH_AS(read_shear_spec(s, "quick"), doctest::Contains("/size/parts"), SceneError);
+    }
+
     TEST_CASE(
         "shear scene: wall speeds give rates 2 v / gap; the default ladder is the source's rates; tiers fill "
         "defaults") {

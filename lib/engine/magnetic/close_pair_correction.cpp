@@ -102,8 +102,11 @@ void ClosePairTable::saturating_axial(double gap, double axial_field, Correction
     const double h = std::max(axial_field / saturation_, 1e-12);
     const double top = kSatFieldsOverMs[kSatFieldCount - 1];
     const double g_clamped = std::max(gap, kSatGaps[0]);
-    const auto [g, tg] = locate(sat_log_gap_, std::log(g_clamped));
-    const auto [f, tf] = locate(sat_log_field_, std::log(std::clamp(h, kSatFieldsOverMs[0], top)));
+    // Plain locals, not structured bindings: C++17 lambdas cannot capture those (clang refuses).
+    const std::pair<int, double> gap_cell = locate(sat_log_gap_, std::log(g_clamped));
+    const std::pair<int, double> field_cell = locate(sat_log_field_, std::log(std::clamp(h, kSatFieldsOverMs[0], top)));
+    const int g = gap_cell.first, f = field_cell.first;
+    const double tg = gap_cell.second, tf = field_cell.second;
     const auto at = [&](int fi, int gi) -> const Correction& { return sat_rows_[fi * kSatGapCount + gi]; };
     const auto blend = [&](double Correction::*m) {
         const double low = at(f, g).*m + tg * (at(f, g + 1).*m - at(f, g).*m);
