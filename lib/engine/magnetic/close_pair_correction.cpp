@@ -91,7 +91,7 @@ void ClosePairTable::build_saturating_grid() {
     for (int f = 0; f < kSatFieldCount; ++f)
         for (int g = 0; g < kSatGapCount; ++g) {
             if (!(kSatForce[f][g] < 0)) throw std::logic_error("saturating pair table: a node does not attract");
-            sat_rows_.push_back({std::log(-kSatForce[f][g]), 0, kSatPolarisability[f][g], 0});
+            sat_nodes_.push_back({std::log(-kSatForce[f][g]), kSatPolarisability[f][g]});
         }
 }
 
@@ -107,16 +107,16 @@ void ClosePairTable::saturating_axial(double gap, double axial_field, Correction
     const std::pair<int, double> field_cell = locate(sat_log_field_, std::log(std::clamp(h, kSatFieldsOverMs[0], top)));
     const int g = gap_cell.first, f = field_cell.first;
     const double tg = gap_cell.second, tf = field_cell.second;
-    const auto at = [&](int fi, int gi) -> const Correction& { return sat_rows_[fi * kSatGapCount + gi]; };
-    const auto blend = [&](double Correction::*m) {
+    const auto at = [&](int fi, int gi) -> const SaturatingNode& { return sat_nodes_[fi * kSatGapCount + gi]; };
+    const auto blend = [&](double SaturatingNode::*m) {
         const double low = at(f, g).*m + tg * (at(f, g + 1).*m - at(f, g).*m);
         const double high = at(f + 1, g).*m + tg * (at(f + 1, g + 1).*m - at(f + 1, g).*m);
         return low + tf * (high - low);
     };
     const double over = h > top ? top / h : 1.0;
     const DipolePairCoefficients dip = capped_dipole_pair(mu_, 2.0 + g_clamped, h);
-    c.dalpha_axial = (-std::exp(blend(&Correction::dalpha_axial)) * over * over - dip.force) / (2 * M_PI);
-    c.alpha_axial = blend(&Correction::alpha_axial) * over - dip.polarisability;
+    c.dalpha_axial = (-std::exp(blend(&SaturatingNode::log_force)) * over * over - dip.force) / (2 * M_PI);
+    c.alpha_axial = blend(&SaturatingNode::polarisability) * over - dip.polarisability;
 }
 
 ClosePairTable::Correction ClosePairTable::at(double gap, double axial_field) const {

@@ -78,8 +78,12 @@ private:
     ClosePairModel model_ = ClosePairModel::linear;
     std::vector<double> log_gap_;
     std::vector<Correction> rows_;
+    struct SaturatingNode {
+        double log_force = 0;       // log of the attraction's coefficient, -F / (mu0 H0^2 a^2)
+        double polarisability = 0;  // the pair's moment over 4 pi a^3 H0
+    };
     std::vector<double> sat_log_gap_, sat_log_field_;  // grid axes, field over M_s
-    std::vector<Correction> sat_rows_;  // [field][gap]: log(-force coefficient), polarisability (axial members)
+    std::vector<SaturatingNode> sat_nodes_;            // [field][gap]
 };
 
 // The relative permeability the bundled saturating table was solved for.
