@@ -9,7 +9,6 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
-#include <iomanip>
 #include <numbers>
 #include <regex>
 #include <sstream>
@@ -31,11 +30,8 @@ namespace {
 
 constexpr int kMaxSolverIterations = 20000;
 
-std::string number(double v) {
-    std::ostringstream s;
-    s << std::setprecision(17) << v;
-    return s.str();
-}
+// Full precision: the .pro file must carry the value the caller meant.
+std::string number(double v) { return format_number(v, 17); }
 
 std::string vector_text(const Vec3& v) {
     return "Vector[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]";

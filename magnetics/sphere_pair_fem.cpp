@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/format.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "magnetics/gmsh_assembly.hpp"
 
@@ -22,11 +23,8 @@ namespace {
 constexpr double kMu0 = 4e-7 * std::numbers::pi;
 constexpr int kIron = 1, kFluid = 2, kBoundary = 3;
 
-std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
+// Full precision for gmsh's expressions.
+std::string num(double v) { return format_number(v, 17); }
 
 // Element sizes (lengths in radii): in the gap a third of its local height (gap + r^2 between
 // two unit spheres), growing with the height above the mid-plane; on the sphere's surface 1/40

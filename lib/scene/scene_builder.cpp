@@ -62,70 +62,71 @@ Domain read_domain(SceneNode node) {
     return d;
 }
 
+// Runs a packing that returns its spheres and the fraction it reached: an interrupt passes
+// through (exit 130 at once), a packing that cannot be done is refused at `key`, and a fraction
+// more than 2 % from the requested one is a warning.
+template <class Packing>
+std::vector<Sphere> run_packing(const SceneNode& node, SceneNode& place, Scene& scene, const std::string& key,
+                                const std::string& what, double requested, Packing packing) {
+    try {
+        auto [spheres, achieved] = packing();
+        if (std::fabs(achieved - requested) > 0.02 * requested)
+            scene.warnings.push_back(node.path() + ": packed " + what + " " + format_number(achieved) +
+                                     " differs from the requested " + format_number(requested));
+        return spheres;
+    } catch (const SetupInterrupted&) {
+        throw;
+    } catch (const std::exception& e) {
+        place.fail(key, e.what());
+    }
+}
+
+// The packing's own keys, and Ctrl-C's flag: a long packing stops at once.
+PackingOptions packing_options(SceneNode& place) {
+    PackingOptions opt;
+    opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
+    opt.cancelled = interrupt_requested;
+    return opt;
+}
+
 // One batch of grains: a material, a size distribution, a placement and initial motion.
 // The placement methods of a /grains batch, each reading its keys and returning the spheres
 // (none when `insert` is false: a resumed scene takes its grains from the checkpoint).
 std::vector<Sphere> place_random(SceneNode& node, SceneNode& place, Scene& scene, const SizeDistribution& sizes,
                                  Rng& rng, bool insert) {
     System& s = scene.system;
-    std::vector<Sphere> spheres;
     const double phi = place.number("volume_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
     if (phi > kRandomClosePacking)
         place.fail("volume_fraction",
                    "cannot exceed random close packing of spheres, " + format_number(kRandomClosePacking));
     const Region region = placement_region(place, s.domain);
-    PackingOptions opt;
-    opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
-    opt.cancelled = interrupt_requested;  // Ctrl-C during a long packing stops it at once
+    const PackingOptions opt = packing_options(place);
     if (!region.fits(0.5 * sizes.max_diameter(), s.domain))
         place.fail("region", "the largest grain does not fit inside the insertion region");
     place.finish();
-    if (insert) {
-        try {
-            const PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
-            spheres = r.spheres;
-            if (std::fabs(r.achieved_volume_fraction - phi) > 0.02 * phi)
-                scene.warnings.push_back(node.path() + ": packed volume fraction " +
-                                         format_number(r.achieved_volume_fraction) + " differs from the requested " +
-                                         format_number(phi));
-        } catch (const SetupInterrupted&) {
-            throw;
-        } catch (const std::exception& e) {
-            place.fail("volume_fraction", e.what());
-        }
-    }
-    return spheres;
+    if (!insert) return {};
+    return run_packing(node, place, scene, "volume_fraction", "volume fraction", phi, [&] {
+        PackingResult r = random_packing(region, s.domain, sizes, phi, rng, opt);
+        return std::pair{std::move(r.spheres), r.achieved_volume_fraction};
+    });
 }
 
 std::vector<Sphere> place_monolayer(SceneNode& node, SceneNode& place, Scene& scene, const SizeDistribution& sizes,
                                     Rng& rng, bool insert) {
     System& s = scene.system;
     const int mono = s.domain.monolayer_normal;
-    std::vector<Sphere> spheres;
     const double phi = place.number("area_fraction", std::nullopt, Bounds::open_closed(0.0, 1.0));
     if (phi > kRandomClosePackingDiscs)
         place.fail("area_fraction", "cannot exceed random close packing of discs, " +
                                         format_number(kRandomClosePackingDiscs) +
                                         "; lower it (0.5 is a loose monolayer)");
-    PackingOptions opt;
-    opt.overlap_tolerance = place.number("overlap_tolerance", 1e-3, Bounds::open(0.0, 0.5));
-    opt.cancelled = interrupt_requested;  // Ctrl-C during a long packing stops it at once
+    const PackingOptions opt = packing_options(place);
     place.finish();
-    if (insert) {
-        try {
-            const DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
-            spheres = r.discs;
-            if (std::fabs(r.achieved_area_fraction - phi) > 0.02 * phi)
-                scene.warnings.push_back(node.path() + ": packed area fraction " +
-                                         format_number(r.achieved_area_fraction) + " differs from the requested " +
-                                         format_number(phi));
-        } catch (const SetupInterrupted&) {
-            throw;
-        } catch (const std::exception& e) {
-            place.fail("area_fraction", e.what());
-        }
-    }
-    return spheres;
+    if (!insert) return {};
+    return run_packing(node, place, scene, "area_fraction", "area fraction", phi, [&] {
+        DiscPackingResult r = random_disc_packing(s.domain, mono, sizes, phi, rng, opt);
+        return std::pair{std::move(r.discs), r.achieved_area_fraction};
+    });
 }
 
 std::vector<Sphere> place_lattice(SceneNode& node, SceneNode& place, const System& s, const SizeDistribution& sizes,

@@ -109,9 +109,9 @@ void build_close_pair_table(System& s, double r_max) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         r_min = std::min(r_min, p.radius[i]);
         if (p.induced_coefficient[i] <= 0) continue;
-        const double volume_over = std::pow(p.radius[i], 3);
-        const double b = p.induced_coefficient[i] / (4.0 * M_PI * volume_over);
-        const double m = p.saturation_moment[i] / (4.0 / 3.0 * M_PI * volume_over);
+        const double r3 = std::pow(p.radius[i], 3);
+        const double b = p.induced_coefficient[i] / (4.0 * M_PI * r3);
+        const double m = p.saturation_moment[i] / (4.0 / 3.0 * M_PI * r3);
         if (beta < 0) {
             beta = b;
             ms = m;
@@ -119,7 +119,8 @@ void build_close_pair_table(System& s, double r_max) {
             throw SceneError("/magnetic/close_pairs",
                              "the correction is tabulated for one permeability, and the grains' "
                              "materials differ in relative_permeability; give them one, or drop close_pairs");
-        } else if (std::abs(m - ms) > 1e-9 * ms) {
+        } else if (s.magnetic.settings.close_pairs.model == ClosePairModel::saturating &&
+                   std::abs(m - ms) > 1e-9 * ms) {
             throw SceneError("/magnetic/close_pairs/model",
                              "the saturating table is in H / M_s for one M_s, and the grains' materials differ in "
                              "saturation_magnetisation; give them one, or use the linear model");
