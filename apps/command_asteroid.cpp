@@ -1,15 +1,19 @@
 // `mrjam asteroid MODE SCENE.json --report R.json`: magnetised rubble piles (docs/asteroid.md).
 // MODE `scaling`: the forces between two touching grains against their radius (surface gravity,
 // self-gravity, cohesion, magnetism), where they cross, and section 4.5's claims; instant.
+// MODE `coalesce`: a cloud of grains collapsing under self-gravity into a body (section 4.2).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
 
+#include "asteroid/coalesce_run.hpp"
 #include "asteroid/scaling_spec.hpp"
 #include "asteroid/scaling_study.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "core/format.hpp"
 #include "run/runner.hpp"
+#include "scene/scene_node.hpp"
 
 namespace mrjam::cli {
 
@@ -19,6 +23,9 @@ struct AsteroidArgs {
     std::string mode;
     std::string scene;
     std::string report = "asteroid_report.json";
+    std::string resume;
+    std::string fidelity = "quick";
+    int threads = 1;
     bool quiet = false;
 };
 
@@ -56,22 +63,67 @@ void run_scaling(const AsteroidArgs& args) {
     std::cerr << "[asteroid] scaling; report written to " << args.report << "\n";
 }
 
+int run_coalesce(const AsteroidArgs& args, bool fidelity_given) {
+    CoalesceOptions options;
+    options.scene_path = args.resume.empty() ? args.scene : args.resume;
+    options.report_path = args.report;
+    options.fidelity = args.fidelity;
+    options.threads = args.threads;
+    options.progress = !args.quiet;
+    CoalesceOutcome out;
+    if (!args.resume.empty()) {
+        if (fidelity_given) throw SceneError("--fidelity", "a resumed run keeps the tier it was started with");
+        out = resume_coalescence(args.resume, options);
+    } else {
+        out = run_coalescence(read_coalesce_spec(read_json_file(args.scene), args.fidelity), options);
+    }
+    const nlohmann::json& r = out.report;
+    if (out.exit_status == 3) std::cerr << "error: " << r.value("error", std::string("blow-up")) << "\n";
+    const nlohmann::json& c = r["results"]["coalescence"];
+    if (c.contains("final"))
+        std::cerr << "[asteroid] body: " << format_number(100 * c["final"]["body_mass_fraction"].get<double>(), 3)
+                  << " % of the mass, porosity " << format_number(c["final"]["porosity"].get<double>(), 3)
+                  << ", outside it in chains or clumps "
+                  << format_number(100 * c["final"]["outside_in_chains_or_clumps"].get<double>(), 3) << " %\n";
+    std::cerr << "[asteroid] coalesce " << r.value("status", std::string("?")) << "; report written to " << args.report
+              << "\n";
+    return out.exit_status;
+}
+
 }  // namespace
 
 void add_asteroid_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<AsteroidArgs>();
-    CLI::App* cmd = app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling against grain size");
-    cmd->add_option("mode", args->mode, "scaling: forces between two touching grains against their radius")
+    CLI::App* cmd = app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling, coalescence");
+    cmd->add_option("mode", args->mode,
+                    "scaling: forces between two touching grains against their radius; coalesce: a cloud "
+                    "collapsing into a body under self-gravity")
         ->required()
-        ->check(CLI::IsMember({"scaling"}));
-    cmd->add_option("scene", args->scene, "Asteroid scene JSON file (see docs/asteroid.md)")->required();
+        ->check(CLI::IsMember({"scaling", "coalesce"}));
+    cmd->add_option("scene", args->scene, "Asteroid scene JSON file (see docs/asteroid.md)");
+    cmd->add_option("--resume", args->resume, "coalesce: continue from a checkpoint the mode wrote");
+    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity,
+                                            "coalesce: quick (4,000 grains) or standard/paper (the source's 32,662)")
+                                ->check(CLI::IsMember({"quick", "standard", "paper"}))
+                                ->capture_default_str();
+    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     cmd->add_option("--report", args->report, "Where to write the JSON report (the plot goes next to it)")
         ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "Only the report's path on stderr");
-    cmd->callback([args, &exit_status] {
-        prepare_output_file(args->report, "--report", {args->scene});
-        run_scaling(*args);
-        exit_status = 0;
+    cmd->callback([args, fidelity, &exit_status] {
+        if (args->scene.empty() == args->resume.empty())
+            throw CLI::ValidationError("asteroid", "give a SCENE file, or --resume CHECKPOINT (not both)");
+        if (args->mode == "scaling" && !args->resume.empty())
+            throw SceneError("--resume", "the scaling mode is instant and writes no checkpoint");
+        prepare_output_file(args->report, "--report", {args->scene, args->resume});
+        if (args->mode == "scaling") {
+            run_scaling(*args);
+            exit_status = 0;
+        } else {
+            exit_status = run_coalesce(*args, fidelity->count() > 0);
+        }
     });
 }
 

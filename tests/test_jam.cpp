@@ -4,10 +4,10 @@
 
 #include <limits>
 
+#include "contact_clusters.hpp"
 #include "core/format.hpp"
 #include "jam/axial_resistance.hpp"
 #include "jam/closed_flow.hpp"
-#include "jam/contact_clusters.hpp"
 #include "jam/jam_outcome.hpp"
 #include "jam/jam_results.hpp"
 #include "jam/jam_run.hpp"

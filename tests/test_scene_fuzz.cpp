@@ -6,8 +6,9 @@
 // std::out_of_range from a missing check, a nlohmann type error, a crash) fails the test with the
 // mutated scene printed. Deterministic: the mutations come from a fixed seed.
 //
-// The readers that build grains (`run`) are left out: their cost grows with the grain count the
-// input asks for, which the memory estimate and plausibility checks bound (test_scene_bounds.cpp).
+// The `run` reader builds grains, whose cost grows with the grain count the input asks for (the
+// memory estimate and plausibility checks bound it: test_scene_bounds.cpp); it is fuzzed as a
+// resumed scene reads, every block checked and nothing packed (BuildOptions::insert_grains off).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -24,6 +25,7 @@
 #include "design/design_scenes.hpp"
 #include "jam/jam_scene.hpp"
 #include "magnetics/magnetics_scene.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/shear_spec.hpp"
 
@@ -160,5 +162,12 @@ TEST_SUITE("unit") {
              [](const json& s) { (void)mrjam::read_design_spec(s, (kExamples / "design_quick.json").string()); });
         fuzz("asteroid", read_example("asteroid/scaling_fig4_15.json"), 1500,
              [](const json& s) { (void)mrjam::read_scaling_spec(s); });
+        mrjam::BuildOptions read_only;
+        read_only.insert_grains = false;
+        read_only.base_directory = kExamples.string();
+        read_only.fidelity = "quick";
+        for (const char* example : {"settle_column.json", "chains_600mT.json", "couette_rafts.json"})
+            fuzz(std::string("run ") + example, read_example(example), 600,
+                 [&](const json& s) { (void)mrjam::build_scene(s, read_only); });
     }
 }

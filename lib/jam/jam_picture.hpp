@@ -5,8 +5,8 @@
 // the valve wall in black.
 #include <filesystem>
 
+#include "contact_clusters.hpp"
 #include "geometry/valve.hpp"
-#include "jam/contact_clusters.hpp"
 #include "system.hpp"
 
 namespace mrjam {

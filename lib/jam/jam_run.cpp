@@ -7,10 +7,10 @@
 #include <sstream>
 #include <utility>
 
+#include "contact_clusters.hpp"
 #include "fluid/valve_flow.hpp"
 #include "jam/axial_resistance.hpp"
 #include "jam/batch_outlet.hpp"
-#include "jam/contact_clusters.hpp"
 #include "jam/coupled_flow.hpp"
 #include "jam/jam_checkpoint.hpp"
 #include "jam/jam_picture.hpp"

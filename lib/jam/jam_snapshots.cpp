@@ -3,8 +3,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "contact_clusters.hpp"
 #include "io/snapshot.hpp"
-#include "jam/contact_clusters.hpp"
 
 namespace mrjam {
 

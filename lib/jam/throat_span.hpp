@@ -1,8 +1,8 @@
 #pragma once
 // Whether the largest contact cluster is an arch across the throat: it touches the
 // constriction's wall on both sides of the gap along the field (y), as in the source's Fig. 3.11b.
+#include "contact_clusters.hpp"
 #include "geometry/valve.hpp"
-#include "jam/contact_clusters.hpp"
 #include "system.hpp"
 #include "walls.hpp"
 

@@ -33,7 +33,7 @@ const std::map<std::string, UnitDef>& unit_table() {
         {"Oe", {1e3 / (4 * M_PI), magnetic_field, false}},
         {"P", {0.1, viscosity, true}},  // poise, so "cP" works
         {"bar", {1e5, pressure, true}},
-        {"rad", {1.0, dimensionless, false}},
+        {"rad", {1.0, dimensionless, true}},  // urad/s: the source writes spins in urad/s
         {"deg", {M_PI / 180.0, dimensionless, false}},
         {"min", {60.0, time, false}},
         {"h", {3600.0, time, false}},

@@ -4,8 +4,8 @@
 // address, undefined), outside CI's budget; its seed corpus is tests/fuzz/corpus/.
 //
 // The first byte chooses the reader, the rest is the input: a unit string, or a JSON scene for
-// the jam, shear or asteroid reader (the readers that only read: `run` builds grains, whose cost
-// the memory estimate bounds).
+// the jam, shear, asteroid or `run` reader (`run` as a resumed scene reads it: every block checked,
+// no grains packed, since a packing's cost is the grain count the memory estimate bounds).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +16,7 @@
 
 #include "asteroid/scaling_spec.hpp"
 #include "jam/jam_scene.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 #include "shear/shear_spec.hpp"
@@ -23,7 +24,7 @@
 namespace {
 
 void read_as(std::uint8_t which, const std::string& text) {
-    if (which % 4 == 0) {
+    if (which % 5 == 0) {
         (void)mrjam::units::parse(text);
         return;
     }
@@ -38,9 +39,15 @@ void read_as(std::uint8_t which, const std::string& text) {
     };
     const nlohmann::json scene = nlohmann::json::parse(text, limit, false);
     if (scene.is_discarded()) return;
-    if (which % 4 == 1) (void)mrjam::read_jam_scene(scene, "quick", ".");
-    if (which % 4 == 2) (void)mrjam::read_shear_spec(scene, "quick");
-    if (which % 4 == 3) (void)mrjam::read_scaling_spec(scene);
+    if (which % 5 == 1) (void)mrjam::read_jam_scene(scene, "quick", ".");
+    if (which % 5 == 2) (void)mrjam::read_shear_spec(scene, "quick");
+    if (which % 5 == 3) (void)mrjam::read_scaling_spec(scene);
+    if (which % 5 == 4) {
+        mrjam::BuildOptions read_only;
+        read_only.insert_grains = false;
+        read_only.fidelity = "quick";
+        (void)mrjam::build_scene(scene, read_only);
+    }
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "jam/contact_clusters.hpp"
+#include "contact_clusters.hpp"
 
 #include <algorithm>
 #include <numeric>
