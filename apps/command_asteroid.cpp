@@ -2,6 +2,7 @@
 // MODE `scaling`: the forces between two touching grains against their radius (surface gravity,
 // self-gravity, cohesion, magnetism), where they cross, and section 4.5's claims; instant.
 // MODE `coalesce`: a cloud of grains collapsing under self-gravity into a body (section 4.2).
+// MODE `spinup`: a body gathered from a cold cloud, spun up in steps until it deforms and sheds (4.3).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
@@ -9,6 +10,7 @@
 #include "asteroid/coalesce_run.hpp"
 #include "asteroid/scaling_spec.hpp"
 #include "asteroid/scaling_study.hpp"
+#include "asteroid/spinup_run.hpp"
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "core/format.hpp"
@@ -63,30 +65,49 @@ void run_scaling(const AsteroidArgs& args) {
     std::cerr << "[asteroid] scaling; report written to " << args.report << "\n";
 }
 
-int run_coalesce(const AsteroidArgs& args, bool fidelity_given) {
+void print_simulation_summary(const std::string& mode, const nlohmann::json& r) {
+    if (mode == "coalesce") {
+        const nlohmann::json& c = r["results"]["coalescence"];
+        if (c.contains("final"))
+            std::cerr << "[asteroid] body: " << format_number(100 * c["final"]["body_mass_fraction"].get<double>(), 3)
+                      << " % of the mass, porosity " << format_number(c["final"]["porosity"].get<double>(), 3)
+                      << ", outside it in chains or clumps "
+                      << format_number(100 * c["final"]["outside_in_chains_or_clumps"].get<double>(), 3) << " %\n";
+        return;
+    }
+    const nlohmann::json& u = r["results"]["spin_up"];
+    auto spin = [&](const char* key) {
+        return u.contains(key) && !u[key].is_null() ? format_number(u[key].get<double>() * 1e6, 4) + " urad/s"
+                                                    : std::string("none");
+    };
+    std::cerr << "[asteroid] first deformation: " << spin("first_deformation_rad_s")
+              << "; first disruption: " << spin("first_disruption_rad_s")
+              << "; rigid-sphere limit: " << spin("rigid_sphere_limit_rad_s") << "\n";
+}
+
+// `coalesce` and `spinup`: simulations on the engine, with checkpoints and --resume.
+int run_simulation(const AsteroidArgs& args, bool fidelity_given) {
     CoalesceOptions options;
     options.scene_path = args.resume.empty() ? args.scene : args.resume;
     options.report_path = args.report;
     options.fidelity = args.fidelity;
     options.threads = args.threads;
     options.progress = !args.quiet;
+    const bool coalesce = args.mode == "coalesce";
     CoalesceOutcome out;
     if (!args.resume.empty()) {
         if (fidelity_given) throw SceneError("--fidelity", "a resumed run keeps the tier it was started with");
-        out = resume_coalescence(args.resume, options);
+        out = coalesce ? resume_coalescence(args.resume, options) : resume_spinup(args.resume, options);
     } else {
-        out = run_coalescence(read_coalesce_spec(read_json_file(args.scene), args.fidelity), options);
+        const nlohmann::json scene = read_json_file(args.scene);
+        out = coalesce ? run_coalescence(read_coalesce_spec(scene, args.fidelity), options)
+                       : run_spinup(read_spinup_spec(scene, args.fidelity), options);
     }
     const nlohmann::json& r = out.report;
     if (out.exit_status == 3) std::cerr << "error: " << r.value("error", std::string("blow-up")) << "\n";
-    const nlohmann::json& c = r["results"]["coalescence"];
-    if (c.contains("final"))
-        std::cerr << "[asteroid] body: " << format_number(100 * c["final"]["body_mass_fraction"].get<double>(), 3)
-                  << " % of the mass, porosity " << format_number(c["final"]["porosity"].get<double>(), 3)
-                  << ", outside it in chains or clumps "
-                  << format_number(100 * c["final"]["outside_in_chains_or_clumps"].get<double>(), 3) << " %\n";
-    std::cerr << "[asteroid] coalesce " << r.value("status", std::string("?")) << "; report written to " << args.report
-              << "\n";
+    print_simulation_summary(args.mode, r);
+    std::cerr << "[asteroid] " << args.mode << " " << r.value("status", std::string("?")) << "; report written to "
+              << args.report << "\n";
     return out.exit_status;
 }
 
@@ -94,18 +115,19 @@ int run_coalesce(const AsteroidArgs& args, bool fidelity_given) {
 
 void add_asteroid_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<AsteroidArgs>();
-    CLI::App* cmd = app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling, coalescence");
+    CLI::App* cmd = app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling, coalescence, spin-up");
     cmd->add_option("mode", args->mode,
                     "scaling: forces between two touching grains against their radius; coalesce: a cloud "
-                    "collapsing into a body under self-gravity")
+                    "collapsing into a body under self-gravity; spinup: a body spun up in steps to failure")
         ->required()
-        ->check(CLI::IsMember({"scaling", "coalesce"}));
+        ->check(CLI::IsMember({"scaling", "coalesce", "spinup"}));
     cmd->add_option("scene", args->scene, "Asteroid scene JSON file (see docs/asteroid.md)");
-    cmd->add_option("--resume", args->resume, "coalesce: continue from a checkpoint the mode wrote");
-    CLI::Option* fidelity = cmd->add_option("--fidelity", args->fidelity,
-                                            "coalesce: quick (4,000 grains) or standard/paper (the source's 32,662)")
-                                ->check(CLI::IsMember({"quick", "standard", "paper"}))
-                                ->capture_default_str();
+    cmd->add_option("--resume", args->resume, "coalesce, spinup: continue from a checkpoint the mode wrote");
+    CLI::Option* fidelity =
+        cmd->add_option("--fidelity", args->fidelity,
+                        "coalesce, spinup: quick (4,000 grains) or standard/paper (the source's 32,662)")
+            ->check(CLI::IsMember({"quick", "standard", "paper"}))
+            ->capture_default_str();
     cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
@@ -122,7 +144,7 @@ void add_asteroid_command(CLI::App& app, int& exit_status) {
             run_scaling(*args);
             exit_status = 0;
         } else {
-            exit_status = run_coalesce(*args, fidelity->count() > 0);
+            exit_status = run_simulation(*args, fidelity->count() > 0);
         }
     });
 }

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "contact_clusters.hpp"
+#include "asteroid/body_spin.hpp"
 
 namespace mrjam {
 
@@ -57,14 +57,8 @@ BodyDiagnostics diagnose_body(const System& s, double initial_mass) {
     if (p.size() == 0) return d;
     // The body is the heaviest cluster, not the most numerous: a seed grain alone can outweigh
     // hundreds of cloud grains.
-    const ContactClusters clusters = contact_clusters(s);
-    std::vector<double> cluster_mass(clusters.size.size(), 0.0);
-    for (std::size_t i = 0; i < p.size(); ++i) cluster_mass[clusters.label[i]] += p.mass[i];
-    const std::uint32_t heaviest =
-        static_cast<std::uint32_t>(std::max_element(cluster_mass.begin(), cluster_mass.end()) - cluster_mass.begin());
-    std::vector<std::size_t> body;
-    for (std::size_t i = 0; i < p.size(); ++i)
-        if (clusters.label[i] == heaviest) body.push_back(i);
+    const BodyMembers members = heaviest_cluster(s);
+    const std::vector<std::size_t>& body = members.grains;
     d.body_grains = body.size();
     double mass = 0, grain_volume = 0, moment_sum = 0;
     Vec3 moment{};
@@ -84,10 +78,9 @@ BodyDiagnostics diagnose_body(const System& s, double initial_mass) {
     d.dipole_alignment = moment_sum > 0 ? d.net_dipole / moment_sum : 0;
     const std::size_t outside = p.size() - body.size();
     std::size_t grouped = 0, clumped = 0;
-    for (std::size_t c = 0; c < clusters.size.size(); ++c) {
-        if (c == heaviest) continue;
-        if (clusters.size[c] >= 2) grouped += clusters.size[c];
-        if (clusters.size[c] > 10) clumped += clusters.size[c];
+    for (std::size_t size : members.other_cluster_sizes) {
+        if (size >= 2) grouped += size;
+        if (size > 10) clumped += size;
     }
     d.outside_grouped = outside > 0 ? static_cast<double>(grouped) / outside : 0;
     d.outside_clumped = outside > 0 ? static_cast<double>(clumped) / outside : 0;

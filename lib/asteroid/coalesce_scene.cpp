@@ -52,12 +52,12 @@ double characteristic_speed(const CoalesceSpec& s, const CloudLayout& l) {
 
 }  // namespace
 
-nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& l) {
+nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& l, const char* mode) {
     const double half = 1.25 * l.escape_radius;  // a grain past the escape sphere is removed at the next look
     const bool magnetic = s.material.magnetisation > 0 || (s.seed_diameter > 0 && s.seed_magnetisation > 0);
     nlohmann::json positions = nlohmann::json::array();
     for (const Vec3& x : l.sites) positions.push_back({x.x, x.y, x.z});
-    nlohmann::json j = {{"mode", "asteroid coalesce"},
+    nlohmann::json j = {{"mode", mode},
                         {"seed", s.seed},
                         {"domain", {{"lo", {-half, -half, -half}}, {"hi", {half, half, half}}}},
                         {"materials", {material_json("rubble", s.material, s.material.magnetisation)}},

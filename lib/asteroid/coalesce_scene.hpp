@@ -16,6 +16,7 @@ struct CloudLayout {
 };
 
 CloudLayout lay_out_cloud(const CoalesceSpec& s);
-nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& layout);
+// `mode` labels the scene ("asteroid coalesce", "asteroid spinup").
+nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& layout, const char* mode);
 
 }  // namespace mrjam

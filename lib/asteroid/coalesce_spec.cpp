@@ -65,7 +65,7 @@ void read_cloud(SceneNode node, CoalesceSpec& s, const std::string& fidelity) {
 // The tiers differ in how long forces are held (quick: gravity 100 steps, dipoles 4; standard
 // and paper: 20 and 1); both holds are short against the cloud's free-fall time (thousands of
 // seconds against steps of hundredths of a second): docs/asteroid.md gives their measured cost.
-void read_numerics(SceneNode& root, CoalesceSpec& s, const std::string& fidelity) {
+void read_forces_and_output(SceneNode& root, CoalesceSpec& s, const std::string& fidelity) {
     const bool quick = fidelity == "quick";
     json none = json::object();
     auto optional = [&](const char* key) {
@@ -81,33 +81,34 @@ void read_numerics(SceneNode& root, CoalesceSpec& s, const std::string& fidelity
     s.magnetic_cutoff = m.number("cutoff_diameters", 3.0, Bounds::closed(2, 20));
     s.magnetic_interval = static_cast<int>(m.integer("update_interval", quick ? 4 : 1, 1, 100));
     m.finish();
-    SceneNode run = root.object("run");
-    s.duration = run.quantity("duration", units::time, std::nullopt, Bounds::positive());
-    s.sample_every = run.quantity("sample_every", units::time, s.duration / 60, Bounds::positive());
-    if (s.sample_every > s.duration) run.fail("sample_every", "is longer than the run's duration");
-    s.timestep_safety = run.number("timestep_safety", 0.1, Bounds::open_closed(0, 0.2));
-    run.finish();
     if (auto out = root.optional_object("output")) {
-        s.output_directory = out->text("directory", "out/asteroid_coalesce");
+        s.output_directory = out->text("directory", s.output_directory);
         s.checkpoint_every_seconds = out->quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
         out->finish();
     } else {
-        s.output_directory = "out/asteroid_coalesce";
+        root.resolved_child("output")["directory"] = s.output_directory;
     }
 }
 
 }  // namespace
+
+void read_run_block(SceneNode& root, CoalesceSpec& s, std::optional<double> duration) {
+    json none = json::object();
+    std::optional<SceneNode> given = root.optional_object("run");
+    SceneNode run = given ? *given : SceneNode(none, root.resolved_child("run"), "/run");
+    s.duration = duration ? *duration : run.quantity("duration", units::time, std::nullopt, Bounds::positive());
+    s.sample_every = run.quantity("sample_every", units::time, s.duration / 60, Bounds::positive());
+    if (s.sample_every > s.duration) run.fail("sample_every", "is longer than the run's duration");
+    s.timestep_safety = run.number("timestep_safety", 0.1, Bounds::open_closed(0, 0.2));
+    run.finish();
+}
 
 double thermal_speed_from_temperature(double density) {
     // m = rho pi d^3 / 6, so k_B (8e20 d^3) / m has no d left in it.
     return std::sqrt(kBoltzmann * kSourceTemperaturePerDiameterCubed * 6.0 / (M_PI * density));
 }
 
-CoalesceSpec read_coalesce_spec(const nlohmann::json& scene, const std::string& fidelity) {
-    if (!scene.is_object()) throw SceneError("", "a coalesce scene is a JSON object");
-    CoalesceSpec s;
-    s.resolved = nlohmann::json::object();
-    SceneNode root(scene, s.resolved, "");
+void read_rubble_blocks(SceneNode& root, CoalesceSpec& s, const std::string& fidelity) {
     s.description = root.text("description", "");
     s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
     SceneNode grains = root.object("grains");
@@ -115,7 +116,17 @@ CoalesceSpec read_coalesce_spec(const nlohmann::json& scene, const std::string& 
     s.material = read_material(grains.object("material"));
     grains.finish();
     read_cloud(root.object("cloud"), s, fidelity);
-    read_numerics(root, s, fidelity);
+    read_forces_and_output(root, s, fidelity);
+}
+
+CoalesceSpec read_coalesce_spec(const nlohmann::json& scene, const std::string& fidelity) {
+    if (!scene.is_object()) throw SceneError("", "a coalesce scene is a JSON object");
+    CoalesceSpec s;
+    s.resolved = nlohmann::json::object();
+    SceneNode root(scene, s.resolved, "");
+    s.output_directory = "out/asteroid_coalesce";
+    read_rubble_blocks(root, s, fidelity);
+    read_run_block(root, s, std::nullopt);
     root.finish();
     return s;
 }

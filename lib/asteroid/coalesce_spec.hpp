@@ -5,6 +5,7 @@
 // escape radius. Read and checked before anything is built.
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 namespace mrjam {
@@ -53,6 +54,16 @@ struct CoalesceSpec {
 // The source's "temperature of 8e20 times the cube of the particle diameter" read as k_B T with T
 // in kelvin and d in metres: sigma_v = sqrt(k_B 8e20 d^3 / m), independent of d for one density.
 double thermal_speed_from_temperature(double density);
+
+class SceneNode;
+
+// The blocks a rubble-pile scene shares (description, seed, grains, cloud, self_gravity, magnetic,
+// output; `s.output_directory` is the default directory), read from `root` without finishing
+// it, so a mode can read its own blocks after.
+void read_rubble_blocks(SceneNode& root, CoalesceSpec& s, const std::string& fidelity);
+// The run block: `duration` (required unless the mode computes it and passes it in),
+// `sample_every`, `timestep_safety`.
+void read_run_block(SceneNode& root, CoalesceSpec& s, std::optional<double> duration);
 
 // Reads and checks the scene at a tier (quick: 4,000 grains; standard and paper: the source's
 // 32,662); throws SceneError naming the key.

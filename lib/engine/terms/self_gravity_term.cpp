@@ -8,6 +8,26 @@
 
 namespace mrjam {
 
+namespace {
+
+// The tree's forces are not pairwise (a node pulls a grain with the node's moments, the grain
+// pulls the node's grains one by one), so they sum to a net force an isolated system does not
+// have, and its momentum would drift by the tree's error every evaluation. The mass-weighted mean
+// acceleration, of the order of that error, is taken off every grain.
+void remove_net_force(const Particles& p, std::vector<Vec3>& acceleration) {
+    Vec3 net{};
+    double mass = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        net += acceleration[i] * p.mass[i];
+        mass += p.mass[i];
+    }
+    if (mass <= 0) return;
+    net = net / mass;
+    for (Vec3& a : acceleration) a -= net;
+}
+
+}  // namespace
+
 // The held values are accelerations, not forces: a grain's mass does not change between
 // evaluations, and a held acceleration stays right for a grain whose index moved.
 void SelfGravityTerm::add(System& s) {
@@ -18,6 +38,7 @@ void SelfGravityTerm::add(System& s) {
         if (settings_.method == GravityMethod::tree) {
             tree_.build(p);
             tree_.accelerations(p, settings_.constant, held_acceleration_, s.threads);
+            remove_net_force(p, held_acceleration_);
         } else {
             direct_gravity(p, settings_.constant, held_acceleration_, s.threads);
         }

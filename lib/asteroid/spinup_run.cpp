@@ -1,0 +1,293 @@
+#include "asteroid/spinup_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "asteroid/body_diagnostics.hpp"
+#include "asteroid/body_spin.hpp"
+#include "asteroid/rubble_ledger.hpp"
+#include "asteroid/rubble_start.hpp"
+#include "gravity/self_gravity.hpp"
+#include "io/checkpoint.hpp"
+#include "io/svg_plot.hpp"
+#include "run/interrupt.hpp"
+#include "run/runner.hpp"
+#include "scene/scene_node.hpp"
+
+namespace mrjam {
+
+namespace {
+
+constexpr const char* kMode = "asteroid spinup";
+
+class SpinUp {
+public:
+    SpinUp(SpinupSpec spec, CoalesceOptions options) : spec_(std::move(spec)), options_(std::move(options)) {}
+
+    void start_fresh() {
+        RubbleStart r = start_rubble(spec_.body, options_.threads, options_.fidelity, kMode);
+        scene_ = std::move(r.scene);
+        cloud_ = r.cloud;
+        accuracy_ = r.gravity_accuracy;
+        ledger_.open(scene_->system, r.escape_radius, r.energetics.radius);
+        set_up_stages();
+    }
+
+    void resume(const std::string& path, const nlohmann::json& state, const CheckpointHeader& header) {
+        scene_ = restore_rubble(path, header.resolved_scene, options_.threads);
+        start_ = header.position;
+        stage_log_ = header.history.at("stage_log");
+        cloud_ = state.at("cloud");
+        accuracy_ = state.at("gravity_accuracy");
+        samples_ = state.at("samples");
+        step_rows_ = state.at("steps");
+        events_ = state.at("events");
+        ledger_ = RubbleLedger::from_json(state.at("ledger"));
+        next_sample_ = state.at("next_sample_s").get<double>();
+        set_up_stages();
+    }
+
+    CoalesceOutcome run();
+
+private:
+    void set_up_stages();
+    void observe(const System& s, std::size_t stage, long step);
+    nlohmann::json step_row(const System& s, std::size_t stage) const;
+    void detect_events(const nlohmann::json& before, const nlohmann::json& now);
+    nlohmann::json checkpoint_state() const;
+    nlohmann::json summary() const;
+    void write_plot(const std::string& path) const;
+
+    SpinupSpec spec_;
+    CoalesceOptions options_;
+    std::unique_ptr<Scene> scene_;
+    ProtocolPosition start_;
+    nlohmann::json stage_log_, cloud_, accuracy_;
+    nlohmann::json samples_ = nlohmann::json::array(), step_rows_ = nlohmann::json::array();
+    nlohmann::json events_ = nlohmann::json::array();
+    RubbleLedger ledger_;
+    double next_sample_ = 0;
+};
+
+// Stage 0 settles the gathered body; stage k adds the k-th increment to the body as it starts
+// (once: a run resumed inside the stage has the spin in its checkpoint already).
+void SpinUp::set_up_stages() {
+    const double dt = scene_->system.dt;
+    const long every = std::max(1L, std::lround(spec_.body.sample_every / (20.0 * dt)));
+    auto stage = [&](std::string name, double duration) {
+        Stage st;
+        st.name = std::move(name);
+        st.steps = std::max(1L, std::lround(duration / dt));
+        st.duration = duration;
+        st.path = "/spin_up";
+        st.observe_every = every;
+        st.keep_forces = true;
+        return st;
+    };
+    scene_->stages.clear();
+    Stage settle = stage("settling", spec_.settle_time);
+    settle.keep_forces = false;
+    scene_->stages.push_back(settle);
+    for (int k = 1; k <= spec_.steps(); ++k) {
+        char name[64];
+        std::snprintf(name, sizeof name, "spin step %d: %.0f urad/s", k, spec_.target(k) * 1e6);
+        Stage st = stage(name, spec_.interval(k));
+        const double delta = spec_.increment;
+        st.on_start = [this, delta](System& s, bool fresh) {
+            if (fresh) ledger_.inject_angular_momentum(spin_up_body(s.particles, heaviest_cluster(s).grains, delta));
+        };
+        scene_->stages.push_back(st);
+    }
+}
+
+nlohmann::json SpinUp::step_row(const System& s, std::size_t stage) const {
+    const BodyDiagnostics d = diagnose_body(s, ledger_.initial_mass());
+    const BodyMembers members = heaviest_cluster(s);
+    const BodySpin spin = body_spin(s.particles, members.grains);
+    std::size_t fragments = 0;  // bodies of at least 10 grains besides the main one
+    for (std::size_t size : members.other_cluster_sizes) fragments += size >= 10;
+    const double second = members.cluster_masses.size() > 1 ? members.cluster_masses[1] : 0.0;
+    return {{"step", stage},
+            {"time_s", s.time},
+            {"target_spin_rad_s", spec_.target(static_cast<int>(stage))},
+            {"body_spin_rad_s", spin.rate},
+            {"i_zz_kg_m2", spin.i_zz},
+            {"body_mass_fraction", d.body_mass_fraction},
+            {"semi_axes_m", {d.semi_axes[0], d.semi_axes[1], d.semi_axes[2]}},
+            {"axis_ratio_b_a", d.semi_axes[1] / d.semi_axes[0]},
+            {"axis_ratio_c_a", d.semi_axes[2] / d.semi_axes[0]},
+            {"bulk_density_kg_m3", d.bulk_density},
+            {"porosity", d.porosity},
+            {"second_body_mass_fraction", second / ledger_.initial_mass()},
+            {"fragments", fragments},
+            {"escaped_grains", ledger_.escaped()}};
+}
+
+// Against the previous step's end: fission (a second body above the threshold), shedding (the
+// body lost more than the threshold), deformation (I_zz or c/a changed beyond the threshold with
+// no shedding).
+void SpinUp::detect_events(const nlohmann::json& before, const nlohmann::json& now) {
+    auto val = [](const nlohmann::json& row, const char* key) { return row.at(key).get<double>(); };
+    const double lost = val(before, "body_mass_fraction") - val(now, "body_mass_fraction");
+    const double d_inertia = std::fabs(val(now, "i_zz_kg_m2") / val(before, "i_zz_kg_m2") - 1.0);
+    const double d_shape = std::fabs(val(now, "axis_ratio_c_a") / val(before, "axis_ratio_c_a") - 1.0);
+    auto record = [&](const char* type) {
+        events_.push_back({{"event", type},
+                           {"step", now.at("step")},
+                           {"target_spin_rad_s", now.at("target_spin_rad_s")},
+                           {"body_spin_rad_s", now.at("body_spin_rad_s")},
+                           {"time_s", now.at("time_s")},
+                           {"mass_lost_fraction", lost},
+                           {"i_zz_change", d_inertia},
+                           {"axis_ratio_change", d_shape},
+                           {"fragments", now.at("fragments")},
+                           {"bulk_density_kg_m3", now.at("bulk_density_kg_m3")}});
+    };
+    if (val(now, "second_body_mass_fraction") > spec_.fission_threshold) record("fission");
+    if (lost > spec_.shedding_threshold) record("shedding");
+    if (lost <= spec_.shedding_threshold &&
+        (d_inertia > spec_.deformation_threshold || d_shape > spec_.deformation_threshold))
+        record("deformation");
+}
+
+void SpinUp::observe(const System& s, std::size_t stage, long step) {
+    if (s.time >= next_sample_ - 0.5 * s.dt) {
+        nlohmann::json row = to_json(diagnose_body(s, ledger_.initial_mass()));
+        row["conservation"] = ledger_.conservation(s);
+        samples_.push_back(row);
+        next_sample_ += spec_.body.sample_every;
+    }
+    if (step != scene_->stages[stage].steps) return;  // a step's end
+    nlohmann::json row = step_row(s, stage);
+    if (!step_rows_.empty()) detect_events(step_rows_.back(), row);
+    step_rows_.push_back(row);
+}
+
+nlohmann::json SpinUp::checkpoint_state() const {
+    return {{"cloud", cloud_},
+            {"gravity_accuracy", accuracy_},
+            {"samples", samples_},
+            {"steps", step_rows_},
+            {"events", events_},
+            {"spinup_input", spec_.body.resolved},
+            {"fidelity", options_.fidelity},
+            {"ledger", ledger_.to_json()},
+            {"next_sample_s", next_sample_}};
+}
+
+// The settled body, the analytic rigid-sphere limit at its bulk density, and the first spin at
+// which it deformed and at which it lost mass or split (the source's deformation and disruption).
+nlohmann::json SpinUp::summary() const {
+    nlohmann::json out = {{"steps", step_rows_}, {"events", events_}, {"escaped_grains", ledger_.escaped()}};
+    if (step_rows_.empty()) return out;
+    const nlohmann::json& settled = step_rows_.front();
+    out["settled_body"] = settled;
+    const double rho = settled.at("bulk_density_kg_m3").get<double>();
+    out["rigid_sphere_limit_rad_s"] = std::sqrt(4.0 * M_PI * kNewtonG * rho / 3.0);
+    out["first_deformation_rad_s"] = nullptr;
+    out["first_disruption_rad_s"] = nullptr;
+    for (const auto& e : events_) {
+        const std::string type = e.at("event").get<std::string>();
+        const char* key = type == "deformation" ? "first_deformation_rad_s" : "first_disruption_rad_s";
+        if (out[key].is_null()) out[key] = e.at("target_spin_rad_s");
+    }
+    // The angular momentum over the spin steps only: a cold cloud settling has next to none, so
+    // a drift relative to it says nothing there.
+    double worst_p = 0, worst_l = 0;
+    for (const auto& row : samples_) {
+        worst_p = std::max(worst_p, row.at("conservation").at("momentum_drift").get<double>());
+        if (row.at("time_s").get<double>() > spec_.settle_time)
+            worst_l = std::max(worst_l, row.at("conservation").at("angular_momentum_drift").get<double>());
+    }
+    out["largest_momentum_drift"] = worst_p;
+    out["largest_angular_momentum_drift_spinning"] = worst_l;
+    return out;
+}
+
+void SpinUp::write_plot(const std::string& path) const {
+    Plot plot;
+    plot.title = "Spin-up: the body at the end of each step";
+    plot.x_label = "spin given (urad/s)";
+    plot.y_label = "ratio";
+    PlotSeries mass, shape, inertia;
+    mass.label = "body's share of the mass";
+    shape.label = "axis ratio c/a";
+    inertia.label = "I_zz over the settled body's";
+    mass.line = shape.line = inertia.line = true;
+    shape.colour = "#ff7f0e";
+    inertia.colour = "#2ca02c";
+    inertia.dashed = true;
+    const double i0 = step_rows_.empty() ? 1.0 : step_rows_.front().at("i_zz_kg_m2").get<double>();
+    for (const auto& row : step_rows_) {
+        const double w = row.at("target_spin_rad_s").get<double>() * 1e6;
+        mass.x.push_back(w);
+        mass.y.push_back(row.at("body_mass_fraction").get<double>());
+        shape.x.push_back(w);
+        shape.y.push_back(row.at("axis_ratio_c_a").get<double>());
+        inertia.x.push_back(w);
+        inertia.y.push_back(row.at("i_zz_kg_m2").get<double>() / i0);
+    }
+    plot.series = {mass, shape, inertia};
+    write_svg(path, plot);
+}
+
+CoalesceOutcome SpinUp::run() {
+    RunOptions run;
+    run.mode = kMode;
+    run.scene_path = options_.scene_path;
+    run.progress = options_.progress;
+    run.resumed_stage_log = stage_log_;
+    run.checkpoint_state = [this] { return checkpoint_state(); };
+    run.checkpoint_each_stage = true;  // a finished step is never redone
+    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { ledger_.remove_escaped(s); }});
+    const RunOutcome outcome =
+        run_protocol(*scene_, run, start_, [this](const System& s, std::size_t k, long i) { observe(s, k, i); });
+    CoalesceOutcome out;
+    out.exit_status = outcome.exit_status;
+    nlohmann::json& r = out.report;
+    r = outcome.report;
+    r["mode"] = kMode;
+    r["engine_inputs"] = r["inputs"];
+    r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
+    r["inputs"] = spec_.body.resolved;
+    r["fidelity"] = options_.fidelity;
+    r["cloud"] = cloud_;
+    r["gravity_accuracy"] = accuracy_;
+    r["results"]["spin_up"] = summary();
+    r["results"]["spin_up"]["series"] = samples_;
+    if (!options_.report_path.empty()) {
+        std::filesystem::path svg(options_.report_path);
+        svg = svg.parent_path() / (svg.stem().string() + "_spin.svg");
+        write_plot(svg.string());
+        r["plots"] = {{"spin_steps", svg.string()}};
+        write_json_file(options_.report_path, r);
+    }
+    return out;
+}
+
+}  // namespace
+
+CoalesceOutcome run_spinup(const SpinupSpec& spec, const CoalesceOptions& options) {
+    install_interrupt_handler();
+    prepare_output_directory(spec.body.output_directory, "/output/directory");
+    SpinUp s(spec, options);
+    s.start_fresh();
+    return s.run();
+}
+
+CoalesceOutcome resume_spinup(const std::string& checkpoint, const CoalesceOptions& options) {
+    const CheckpointHeader header = read_checkpoint_header(checkpoint);
+    if (!header.history.is_object() || header.history.value("mode", "") != kMode)
+        throw SceneError("--resume", checkpoint + " was not written by `mrjam asteroid spinup`");
+    const nlohmann::json& state = header.history.at("state");
+    CoalesceOptions o = options;
+    o.fidelity = state.at("fidelity").get<std::string>();
+    SpinupSpec spec = read_spinup_spec(state.at("spinup_input"), o.fidelity);
+    install_interrupt_handler();
+    SpinUp s(spec, o);
+    s.resume(checkpoint, state, header);
+    return s.run();
+}
+
+}  // namespace mrjam
