@@ -3,10 +3,12 @@
 // self-gravity, cohesion, magnetism), where they cross, and section 4.5's claims; instant.
 // MODE `coalesce`: a cloud of grains collapsing under self-gravity into a body (section 4.2).
 // MODE `spinup`: a body gathered from a cold cloud, spun up in steps until it deforms and sheds (4.3).
+// MODE `avalanche`: a magnetised column let out from behind a gate in weak gravity: its heap (4.4).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
 
+#include "asteroid/avalanche_run.hpp"
 #include "asteroid/coalesce_run.hpp"
 #include "asteroid/scaling_spec.hpp"
 #include "asteroid/scaling_study.hpp"
@@ -75,6 +77,17 @@ void print_simulation_summary(const std::string& mode, const nlohmann::json& r) 
                       << format_number(100 * c["final"]["outside_in_chains_or_clumps"].get<double>(), 3) << " %\n";
         return;
     }
+    if (mode == "avalanche") {
+        const nlohmann::json& a = r["results"]["avalanche"];
+        auto angle = [&](const char* key) {
+            const nlohmann::json& v = a[key]["angle_deg"];
+            return v.is_null() ? std::string("no fit") : format_number(v.get<double>(), 3) + " deg";
+        };
+        std::cerr << "[asteroid] angle of repose " << angle("angle_of_repose") << " (upper " << angle("upper_slope")
+                  << ", lower " << angle("lower_slope") << "), heap "
+                  << format_number(a["heap_volume_m3"].get<double>(), 3) << " m3\n";
+        return;
+    }
     const nlohmann::json& u = r["results"]["spin_up"];
     auto spin = [&](const char* key) {
         return u.contains(key) && !u[key].is_null() ? format_number(u[key].get<double>() * 1e6, 4) + " urad/s"
@@ -93,15 +106,17 @@ int run_simulation(const AsteroidArgs& args, bool fidelity_given) {
     options.fidelity = args.fidelity;
     options.threads = args.threads;
     options.progress = !args.quiet;
-    const bool coalesce = args.mode == "coalesce";
     CoalesceOutcome out;
     if (!args.resume.empty()) {
         if (fidelity_given) throw SceneError("--fidelity", "a resumed run keeps the tier it was started with");
-        out = coalesce ? resume_coalescence(args.resume, options) : resume_spinup(args.resume, options);
+        out = args.mode == "coalesce" ? resume_coalescence(args.resume, options)
+              : args.mode == "spinup" ? resume_spinup(args.resume, options)
+                                      : resume_avalanche(args.resume, options);
     } else {
         const nlohmann::json scene = read_json_file(args.scene);
-        out = coalesce ? run_coalescence(read_coalesce_spec(scene, args.fidelity), options)
-                       : run_spinup(read_spinup_spec(scene, args.fidelity), options);
+        out = args.mode == "coalesce" ? run_coalescence(read_coalesce_spec(scene, args.fidelity), options)
+              : args.mode == "spinup" ? run_spinup(read_spinup_spec(scene, args.fidelity), options)
+                                      : run_avalanche(read_avalanche_spec(scene, args.fidelity), options);
     }
     const nlohmann::json& r = out.report;
     if (out.exit_status == 3) std::cerr << "error: " << r.value("error", std::string("blow-up")) << "\n";
@@ -115,14 +130,16 @@ int run_simulation(const AsteroidArgs& args, bool fidelity_given) {
 
 void add_asteroid_command(CLI::App& app, int& exit_status) {
     auto args = std::make_shared<AsteroidArgs>();
-    CLI::App* cmd = app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling, coalescence, spin-up");
+    CLI::App* cmd =
+        app.add_subcommand("asteroid", "Magnetised rubble piles: force scaling, coalescence, spin-up, avalanches");
     cmd->add_option("mode", args->mode,
                     "scaling: forces between two touching grains against their radius; coalesce: a cloud "
-                    "collapsing into a body under self-gravity; spinup: a body spun up in steps to failure")
+                    "collapsing into a body under self-gravity; spinup: a body spun up in steps to failure; avalanche: "
+                    "a magnetised column run out in weak gravity")
         ->required()
-        ->check(CLI::IsMember({"scaling", "coalesce", "spinup"}));
+        ->check(CLI::IsMember({"scaling", "coalesce", "spinup", "avalanche"}));
     cmd->add_option("scene", args->scene, "Asteroid scene JSON file (see docs/asteroid.md)");
-    cmd->add_option("--resume", args->resume, "coalesce, spinup: continue from a checkpoint the mode wrote");
+    cmd->add_option("--resume", args->resume, "coalesce, spinup, avalanche: continue from a checkpoint the mode wrote");
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity,
                         "coalesce, spinup: quick (4,000 grains) or standard/paper (the source's 32,662)")

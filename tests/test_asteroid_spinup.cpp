@@ -108,3 +108,49 @@ TEST_SUITE("physics") {
         CHECK(u["largest_angular_momentum_drift_spinning"].get<double>() < 1e-3);
     }
 }
+
+TEST_SUITE("cli") {
+    TEST_CASE(
+        "mrjam asteroid coalesce and spinup: Ctrl-C keeps a checkpoint; resumed it ends the run, and only its own mode "
+        "reads it") {
+        mrjam_test::TempDir dir;
+        // 400 grains for 4000 s (270,000 steps): a few seconds of work, interrupted after 1 s.
+        json c = {{"grains",
+                   {{"diameter", "1 m"},
+                    {"material", {{"density", "3000 kg/m3"}, {"youngs_modulus", "1 MPa"}, {"friction", 0.4}}}}},
+                  {"cloud", {{"count", 400}, {"lattice_spacing", "1.1 m"}, {"thermal_speed", 0.0}}},
+                  {"run", {{"duration", "4000 s"}, {"sample_every", "400 s"}}},
+                  {"output", {{"directory", dir.file("out")}}}};
+        mrjam_test::write_text(dir.file("c.json"), c.dump(2));
+        const auto cut = mrjam_test::mrjam(dir,
+                                           "asteroid coalesce " + mrjam_test::quote(dir.file("c.json")) + " --report " +
+                                               mrjam_test::quote(dir.file("cut.json")),
+                                           " & pid=$!; sleep 1; kill -INT $pid; wait $pid");
+        CAPTURE(cut.err);
+        REQUIRE(cut.exit_code == 130);
+        const std::string checkpoint = dir.file("out/checkpoint.mrjam");
+        const json partial = json::parse(mrjam_test::slurp(dir.file("cut.json")));
+        CHECK(partial["status"] == "interrupted");
+        const auto wrong = mrjam_test::mrjam(dir, "asteroid spinup --resume " + mrjam_test::quote(checkpoint) +
+                                                      " --report " + mrjam_test::quote(dir.file("wrong.json")));
+        CHECK(wrong.exit_code == 2);
+        CHECK(wrong.err.find("--resume") != std::string::npos);
+        const auto resumed = mrjam_test::mrjam(dir, "asteroid coalesce --resume " + mrjam_test::quote(checkpoint) +
+                                                        " --report " + mrjam_test::quote(dir.file("done.json")));
+        CAPTURE(resumed.err);
+        REQUIRE(resumed.exit_code == 0);
+        const json done = json::parse(mrjam_test::slurp(dir.file("done.json")));
+        CHECK(done["status"] == "complete");
+        const json& series = done["results"]["coalescence"]["series"];
+        // The samples before the cut are kept and the run's last sample is at its end.
+        CHECK(series.size() > partial["results"]["coalescence"]["series"].size());
+        CHECK(series.back()["time_s"].get<double>() == doctest::Approx(4000).epsilon(1e-3));
+        json su = c;
+        su.erase("run");
+        su["spin_up"] = {{"settle_time", "100 s"}};
+        su["run"] = {{"duration", "100 s"}};
+        const auto refused = mrjam_test::run_mode(dir, "asteroid spinup", "su", su);
+        CHECK(refused.exit_code == 2);
+        CHECK(refused.err.find("/run/duration") != std::string::npos);
+    }
+}

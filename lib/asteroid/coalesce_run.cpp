@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 
 #include "asteroid/body_diagnostics.hpp"
 #include "asteroid/rubble_ledger.hpp"
@@ -17,9 +16,9 @@
 
 namespace mrjam {
 
-constexpr const char* kMode = "asteroid coalesce";
-
 namespace {
+
+constexpr const char* kMode = "asteroid coalesce";
 
 class Coalescence {
 public:
@@ -94,10 +93,6 @@ nlohmann::json Coalescence::checkpoint_state() const {
             {"ledger", ledger_.to_json()},
             {"next_sample_s", next_sample_}};
 }
-
-}  // namespace
-
-namespace {
 
 // The figures the source compares across magnetisations (section 4.2): how fast the body
 // gathers mass, how porous it is, how much of what is left outside sits in chains and clumps.

@@ -78,6 +78,16 @@ void start_stage(System& s, const Stage& st, bool membership_changes) {
     for (const auto& [name, v] : st.wall_velocities)
         for (auto& w : s.walls)
             if (w.name == name) w.velocity = v;
+    if (membership_changes) {
+        const double far = 10.0 * norm(s.domain.length()) + 1.0;
+        for (const auto& name : st.remove_walls)
+            for (auto& w : s.walls)
+                if (w.name == name) {
+                    w.point -= w.normal * far;
+                    w.velocity = {};
+                    w.near.valid = false;
+                }
+    }
     if (st.flow) s.flow = st.flow;
     if (st.on_start) st.on_start(s, membership_changes);
 }

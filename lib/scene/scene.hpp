@@ -34,6 +34,9 @@ struct Stage {
     std::vector<std::pair<std::string, Vec3>> raft_velocities;  // for rafts formed earlier
     std::vector<std::string> release;                           // rafts whose grains go free
     std::vector<std::pair<std::string, Vec3>> wall_velocities;
+    // Plane walls taken away as the stage starts (a gate lifted): each is moved behind itself, far
+    // out of every grain's reach, so the checkpoint's wall positions carry the removal.
+    std::vector<std::string> remove_walls;
     std::shared_ptr<FlowField> flow;  // null: keep the current flow
     // A mode's own start actions, after the ones above (the shear cell freezes its rafts and sets
     // a rate's boundaries). `fresh` is false when a run resumes inside the stage: what changes the

@@ -346,6 +346,19 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
         st.wall_velocities.emplace_back(name, w.vector("velocity", units::velocity, std::nullopt));
         w.finish();
     }
+    if (node.has("remove_walls")) {
+        const json& names = node.raw("remove_walls");
+        if (!names.is_array()) node.fail("remove_walls", "must be a list of wall names");
+        for (const json& n : names) {
+            const auto it = n.is_string() ? std::find_if(scene.system.walls.begin(), scene.system.walls.end(),
+                                                         [&](const Wall& w) { return w.name == n.get<std::string>(); })
+                                          : scene.system.walls.end();
+            if (it == scene.system.walls.end())
+                node.fail("remove_walls", "names no wall of the scene (" + n.dump() + ")");
+            if (it->kind != Wall::Kind::plane) node.fail("remove_walls", "only a plane wall can be taken away");
+            st.remove_walls.push_back(it->name);
+        }
+    }
     if (node.has("flow")) st.flow = read_flow(node.object("flow"), scene.system.domain);
     node.finish();
     return st;

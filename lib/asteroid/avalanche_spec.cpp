@@ -1,0 +1,93 @@
+#include "asteroid/avalanche_spec.hpp"
+
+#include <cmath>
+
+#include "scene/scene_node.hpp"
+#include "scene/units.hpp"
+
+namespace mrjam {
+
+namespace {
+
+void read_material(SceneNode node, AvalancheSpec& s) {
+    s.density = node.quantity("density", units::density, std::nullopt, Bounds::closed(1, 1e5));
+    s.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::closed(1e3, 1e13));
+    s.poisson_ratio = node.number("poisson_ratio", 0.278, Bounds::closed(-0.99, 0.5));
+    s.restitution = node.number("restitution", 0.2, Bounds::open_closed(0, 1));
+    s.friction = node.number("friction", 0.6, Bounds::closed(0, 10));
+    s.rolling_friction = node.number("rolling_friction", 0, Bounds::closed(0, 10));
+    s.rolling_stiffness = node.quantity("rolling_stiffness", units::stiffness, 0.0, Bounds::non_negative());
+    s.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
+    if ((s.rolling_friction > 0) != (s.rolling_stiffness > 0))
+        node.fail("rolling_stiffness",
+                  "SDS rolling resistance needs both rolling_friction and rolling_stiffness (or neither)");
+    s.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::closed(0, 1e9));
+    s.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1, 1e7));
+    s.saturation_magnetisation =
+        node.quantity("saturation_magnetisation", units::magnetic_field, 1.7e6, Bounds::positive());
+    node.finish();
+}
+
+// The cell in diameters. The source's were 300 x 80 x 400 diameters for its 5 mm grains; the
+// tiers keep its shape, a column behind a gate at a fifth of the length, in a smaller cell
+// (quick: about 4,900 grains; standard and paper: about 22,000).
+void read_cell(SceneNode node, AvalancheSpec& s, const std::string& fidelity) {
+    const bool quick = fidelity == "quick";
+    s.length = node.number("length", quick ? 80 : 120, Bounds::closed(10, 5000));
+    s.width = node.number("width", quick ? 8 : 16, Bounds::closed(2, 1000));
+    // The periodic width must hold the dipoles' reach (3 diameters and the skin) twice over.
+    if (s.field > 0 && s.width < 7)
+        node.fail("width", "is narrower than twice the dipoles' cutoff of 3 diameters; give at least 7");
+    s.height = node.number("height", quick ? 50 : 80, Bounds::closed(5, 5000));
+    s.gate = node.number("gate", quick ? 16 : 24, Bounds::open(0, s.length));
+    if (s.gate < 2) node.fail("gate", "leaves no room behind it for a grain; give at least 2 diameters");
+    s.fill_height = node.number("fill_height", quick ? 40 : 60, Bounds::closed(2, s.height));
+    s.fill_fraction = node.number("fill_fraction", 0.5, Bounds::closed(0.05, 0.6));
+    const double grains = s.gate * s.width * s.fill_height * s.fill_fraction / (M_PI / 6.0);
+    if (grains > 2e6) node.fail("gate", "asks for " + std::to_string(long(grains)) + " grains; at most 2,000,000");
+    node.finish();
+}
+
+void read_protocol(SceneNode node, AvalancheSpec& s) {
+    s.settle_time = node.quantity("settle_time", units::time, std::nullopt, Bounds::positive());
+    s.magnetise_time = node.quantity("magnetise_time", units::time, std::nullopt, Bounds::non_negative());
+    s.runout_time = node.quantity("runout_time", units::time, std::nullopt, Bounds::positive());
+    // At rest: an rms speed under 2 % of sqrt(g d), the speed of a grain dropped by its own size.
+    s.rest_speed =
+        node.quantity("rest_speed", units::velocity, 0.02 * std::sqrt(s.gravity * s.diameter), Bounds::positive());
+    s.timestep_safety = node.number("timestep_safety", 0.1, Bounds::open_closed(0, 0.2));
+    node.finish();
+}
+
+}  // namespace
+
+AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string& fidelity) {
+    if (!scene.is_object()) throw SceneError("", "an avalanche scene is a JSON object");
+    AvalancheSpec s;
+    s.resolved = nlohmann::json::object();
+    SceneNode root(scene, s.resolved, "");
+    s.description = root.text("description", "");
+    s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
+    SceneNode grains = root.object("grains");
+    s.diameter = grains.quantity("diameter", units::length, std::nullopt, Bounds::positive());
+    read_material(grains.object("material"), s);
+    grains.finish();
+    s.gravity = root.quantity("gravity", units::acceleration, std::nullopt, Bounds::positive());
+    s.field = root.quantity("field", units::magnetic_flux_density, std::nullopt, Bounds::closed(0, 10));
+    s.mutual_dipoles = root.choice("dipoles", {"fixed", "mutual"}, "fixed") == "mutual";
+    json none = json::object();
+    auto optional = [&](const char* key) {
+        if (auto node = root.optional_object(key)) return *node;
+        return SceneNode(none, root.resolved_child(key), std::string("/") + key);
+    };
+    read_cell(optional("cell"), s, fidelity);
+    read_protocol(root.object("protocol"), s);
+    SceneNode out = optional("output");
+    s.output_directory = out.text("directory", "out/asteroid_avalanche");
+    s.checkpoint_every_seconds = out.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
+    out.finish();
+    root.finish();
+    return s;
+}
+
+}  // namespace mrjam

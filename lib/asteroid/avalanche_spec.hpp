@@ -1,0 +1,40 @@
+#pragma once
+// The scene of `mrjam asteroid avalanche` (docs/asteroid.md, "avalanche"): section 4.4 of the
+// source. A column of grains held by a gate in a cell periodic across its width settles in a
+// weak uniform gravity, is magnetised by a field along gravity, and runs out when the gate is
+// taken away; the heap's angle of repose is what Table 4.5 compares.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace mrjam {
+
+struct AvalancheSpec {
+    nlohmann::json resolved;
+    std::string description;
+    std::uint64_t seed = 1;
+    double diameter = 0;  // m, one size
+    // Material (Table 4.5's grains for the examples' values).
+    double density = 0, youngs_modulus = 0, poisson_ratio = 0.278, restitution = 0.2, friction = 0.6;
+    double rolling_friction = 0, rolling_stiffness = 0, rolling_viscous = 0;  // SDS
+    double cohesion_energy_density = 0;                                       // SJKR, J/m3
+    double relative_permeability = 1000, saturation_magnetisation = 1.7e6;
+    // The cell, in grain diameters: x the run-out, y periodic, z up.
+    double length = 0, width = 0, height = 0, gate = 0, fill_height = 0;
+    double fill_fraction = 0.5;   // of the random packing behind the gate before it settles
+    double gravity = 0;           // m/s2, along -z
+    double field = 0;             // T, along z (parallel to gravity, as the source)
+    bool mutual_dipoles = false;  // the neighbours' fields in each moment (lagged), or the applied field only
+    double settle_time = 0, magnetise_time = 0, runout_time = 0;  // s; the run-out ends at rest sooner
+    double rest_speed = 0;                                        // m/s, rms speed that counts as at rest
+    double timestep_safety = 0.1;
+    std::string output_directory;
+    double checkpoint_every_seconds = 600;
+};
+
+// Reads and checks the scene at a tier (the cell's defaults: quick 80 x 8 x 50 diameters with a
+// column 16 x 40 behind the gate, standard and paper 120 x 16 x 80 with 24 x 60);
+// throws SceneError naming the key.
+AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string& fidelity);
+
+}  // namespace mrjam

@@ -1,0 +1,81 @@
+#include "asteroid/heap_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mrjam {
+
+SlopeFit fit_slope(const std::vector<double>& x, const std::vector<double>& z) {
+    SlopeFit f;
+    f.points = static_cast<int>(x.size());
+    if (f.points < 3) return f;
+    double sx = 0, sz = 0, sxx = 0, sxz = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        sx += x[i];
+        sz += z[i];
+        sxx += x[i] * x[i];
+        sxz += x[i] * z[i];
+    }
+    const double n = static_cast<double>(x.size()), det = n * sxx - sx * sx;
+    if (det == 0) {
+        f.points = 0;
+        return f;
+    }
+    f.slope = (n * sxz - sx * sz) / det;
+    f.intercept = (sz - f.slope * sx) / n;
+    f.angle_deg = std::atan(std::fabs(f.slope)) * 180.0 / M_PI;
+    return f;
+}
+
+HeapProfile measure_heap(const Particles& p, double length, double width, double gate, double bin) {
+    HeapProfile h;
+    h.bin = bin;
+    const std::size_t bins = static_cast<std::size_t>(std::ceil(length / bin));
+    h.height.assign(bins, 0.0);
+    double front = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double x = p.position[i].x;
+        const std::size_t k = std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, x) / bin));
+        h.height[k] = std::max(h.height[k], p.position[i].z + p.radius[i]);
+        front = std::max(front, x + p.radius[i]);
+    }
+    for (std::size_t k = 0; k < bins; ++k) h.x.push_back((k + 0.5) * bin);
+    h.peak = *std::max_element(h.height.begin(), h.height.end());
+    for (double z : h.height) h.volume += z * bin * width;
+    h.runout = std::max(0.0, front - gate);
+    // Downhill of the last bin at 90 % of the peak: the slope, its upper and lower halves.
+    std::size_t start = 0;
+    for (std::size_t k = 0; k < bins; ++k)
+        if (h.height[k] >= 0.9 * h.peak) start = k;
+    std::vector<double> xs, zs, xu, zu, xl, zl;
+    for (std::size_t k = start; k < bins; ++k) {
+        const double z = h.height[k];
+        if (z <= 0.1 * h.peak || z >= 0.9 * h.peak) continue;
+        xs.push_back(h.x[k]);
+        zs.push_back(z);
+        (z >= 0.5 * h.peak ? xu : xl).push_back(h.x[k]);
+        (z >= 0.5 * h.peak ? zu : zl).push_back(z);
+    }
+    h.slope = fit_slope(xs, zs);
+    h.upper = fit_slope(xu, zu);
+    h.lower = fit_slope(xl, zl);
+    return h;
+}
+
+nlohmann::json to_json(const HeapProfile& h) {
+    auto fit = [](const SlopeFit& f) -> nlohmann::json {
+        if (f.points < 3) return {{"points", f.points}, {"angle_deg", nullptr}};
+        return {{"points", f.points}, {"angle_deg", f.angle_deg}, {"slope", f.slope}, {"intercept_m", f.intercept}};
+    };
+    return {{"bin_m", h.bin},
+            {"peak_height_m", h.peak},
+            {"angle_of_repose", fit(h.slope)},
+            {"upper_slope", fit(h.upper)},
+            {"lower_slope", fit(h.lower)},
+            {"heap_volume_m3", h.volume},
+            {"runout_m", h.runout},
+            {"x_m", h.x},
+            {"surface_height_m", h.height}};
+}
+
+}  // namespace mrjam

@@ -1,0 +1,37 @@
+#pragma once
+// The side profile of a heap that ran out from behind a gate (section 4.4 of the source): the
+// surface height in bins along the run-out, the angle of repose from a straight fit to the
+// slope between 10 % and 90 % of the peak height, and the upper and lower halves fitted apart
+// (the source saw two slopes for its 5 mm grains: steep on top, unenhanced at the bottom).
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "particles.hpp"
+
+namespace mrjam {
+
+struct SlopeFit {
+    int points = 0;        // bins fitted (fewer than 3: no fit)
+    double slope = 0;      // dz/dx
+    double intercept = 0;  // m
+    double angle_deg = 0;  // atan(|slope|)
+};
+
+struct HeapProfile {
+    double bin = 0;                 // m
+    std::vector<double> x, height;  // bin centres from the back wall; surface height there (m)
+    double peak = 0;                // m
+    SlopeFit slope, upper, lower;   // 10-90 %, 50-90 %, 10-50 % of the peak, downhill of it
+    double volume = 0;              // m3 under the surface (bulk, pores included)
+    double runout = 0;              // m, the farthest grain's front beyond the gate
+};
+
+// Surface height per bin: the top of the highest grain whose centre falls in it.
+HeapProfile measure_heap(const Particles& p, double length, double width, double gate, double bin);
+
+// A least-squares line through the points; fewer than 3 points leave points < 3 and no fit.
+SlopeFit fit_slope(const std::vector<double>& x, const std::vector<double>& z);
+
+nlohmann::json to_json(const HeapProfile& h);
+
+}  // namespace mrjam
