@@ -129,7 +129,16 @@ public:
         check_checkpoint_path(checkpoint_path(spec_, options_), "/output/directory");
         ShearOutcome out;
         for (std::size_t c = progress_.cells.size(); c < cells_.size() && out.status == "complete"; ++c) {
-            const RunOutcome cell = run_cell(c);
+            RunOutcome cell;
+            try {
+                cell = run_cell(c);
+            } catch (const SetupInterrupted&) {
+                // Ctrl-C while a later cell packs its grains: the finished cells are in the last
+                // checkpoint (written at the end of each of their stages), so report them and
+                // stop as an interrupt; before any cell there is nothing to keep.
+                if (c == 0) throw;
+                cell.exit_status = kExitInterrupted;
+            }
             if (cell.exit_status == kExitInterrupted) {
                 out.status = "interrupted";
                 out.exit_status = kExitInterrupted;
