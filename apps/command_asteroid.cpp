@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "asteroid/asteroid_outcome.hpp"
 #include "asteroid/avalanche_run.hpp"
 #include "asteroid/coalesce_run.hpp"
 #include "asteroid/scaling_spec.hpp"
@@ -33,12 +34,6 @@ struct AsteroidArgs {
     bool quiet = false;
 };
 
-// REPORT.json -> REPORT_forces.svg, next to it.
-std::string plot_path(const std::string& report) {
-    std::filesystem::path p(report);
-    return (p.parent_path() / (p.stem().string() + "_forces.svg")).string();
-}
-
 void print_claims(const nlohmann::json& results) {
     for (const auto& c : results["claims"])
         std::cerr << "[asteroid] " << (c["holds"].get<bool>() ? "holds:    " : "does not: ")
@@ -59,7 +54,7 @@ void run_scaling(const AsteroidArgs& args) {
         "Eq. 4.14 (printed) is four times smaller.",
         "Every force is a power law of R, so crossovers are closed forms; magnetism decides the bands with the "
         "dominance_model named in results."};
-    const std::string svg = plot_path(args.report);
+    const std::string svg = plot_beside(args.report, "forces");
     write_scaling_plot(spec, svg);
     report["plots"] = {{"forces", svg}};
     write_json_file(args.report, report);

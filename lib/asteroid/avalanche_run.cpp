@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
+#include "asteroid/asteroid_outcome.hpp"
 #include "asteroid/heap_profile.hpp"
 #include "io/checkpoint.hpp"
 #include "io/svg_plot.hpp"
@@ -208,11 +208,7 @@ CoalesceOutcome Avalanche::run() {
     CoalesceOutcome out;
     out.exit_status = outcome.exit_status;
     nlohmann::json& r = out.report;
-    r = outcome.report;
-    r["mode"] = kMode;
-    r["engine_inputs"] = r["inputs"];
-    r["inputs"] = spec_.resolved;
-    r["fidelity"] = options_.fidelity;
+    r = asteroid_report(outcome, kMode, spec_.resolved, options_.fidelity);
     const HeapProfile heap =
         measure_heap(scene_->system.particles, spec_.length * spec_.diameter, spec_.width * spec_.diameter,
                      spec_.gate * spec_.diameter, 2 * spec_.diameter);
@@ -224,10 +220,9 @@ CoalesceOutcome Avalanche::run() {
     a["rest_speed_m_s"] = spec_.rest_speed;
     a["source"] = source_angles(spec_.diameter);
     if (!options_.report_path.empty()) {
-        std::filesystem::path svg(options_.report_path);
-        svg = svg.parent_path() / (svg.stem().string() + "_heap.svg");
-        write_plot(svg.string(), heap);
-        r["plots"] = {{"heap_profile", svg.string()}};
+        const std::string svg = plot_beside(options_.report_path, "heap");
+        write_plot(svg, heap);
+        r["plots"] = {{"heap_profile", svg}};
         write_json_file(options_.report_path, r);
     }
     return out;
@@ -244,9 +239,7 @@ CoalesceOutcome run_avalanche(const AvalancheSpec& spec, const CoalesceOptions& 
 }
 
 CoalesceOutcome resume_avalanche(const std::string& checkpoint, const CoalesceOptions& options) {
-    const CheckpointHeader header = read_checkpoint_header(checkpoint);
-    if (!header.history.is_object() || header.history.value("mode", "") != kMode)
-        throw SceneError("--resume", checkpoint + " was not written by `mrjam asteroid avalanche`");
+    const CheckpointHeader header = read_mode_checkpoint(checkpoint, kMode);
     const nlohmann::json& state = header.history.at("state");
     CoalesceOptions o = options;
     o.fidelity = state.at("fidelity").get<std::string>();

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
+#include "asteroid/asteroid_outcome.hpp"
 #include "asteroid/body_diagnostics.hpp"
 #include "asteroid/body_spin.hpp"
 #include "asteroid/rubble_ledger.hpp"
@@ -246,21 +246,16 @@ CoalesceOutcome SpinUp::run() {
     CoalesceOutcome out;
     out.exit_status = outcome.exit_status;
     nlohmann::json& r = out.report;
-    r = outcome.report;
-    r["mode"] = kMode;
-    r["engine_inputs"] = r["inputs"];
+    r = asteroid_report(outcome, kMode, spec_.body.resolved, options_.fidelity);
     r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
-    r["inputs"] = spec_.body.resolved;
-    r["fidelity"] = options_.fidelity;
     r["cloud"] = cloud_;
     r["gravity_accuracy"] = accuracy_;
     r["results"]["spin_up"] = summary();
     r["results"]["spin_up"]["series"] = samples_;
     if (!options_.report_path.empty()) {
-        std::filesystem::path svg(options_.report_path);
-        svg = svg.parent_path() / (svg.stem().string() + "_spin.svg");
-        write_plot(svg.string());
-        r["plots"] = {{"spin_steps", svg.string()}};
+        const std::string svg = plot_beside(options_.report_path, "spin");
+        write_plot(svg);
+        r["plots"] = {{"spin_steps", svg}};
         write_json_file(options_.report_path, r);
     }
     return out;
@@ -277,9 +272,7 @@ CoalesceOutcome run_spinup(const SpinupSpec& spec, const CoalesceOptions& option
 }
 
 CoalesceOutcome resume_spinup(const std::string& checkpoint, const CoalesceOptions& options) {
-    const CheckpointHeader header = read_checkpoint_header(checkpoint);
-    if (!header.history.is_object() || header.history.value("mode", "") != kMode)
-        throw SceneError("--resume", checkpoint + " was not written by `mrjam asteroid spinup`");
+    const CheckpointHeader header = read_mode_checkpoint(checkpoint, kMode);
     const nlohmann::json& state = header.history.at("state");
     CoalesceOptions o = options;
     o.fidelity = state.at("fidelity").get<std::string>();
