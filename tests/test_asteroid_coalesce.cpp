@@ -167,6 +167,13 @@ TEST_SUITE("physics") {
         // forces held while the grains move are no longer exactly central.
         CHECK(c["largest_momentum_drift"].get<double>() < 1e-9);
         CHECK(c["largest_angular_momentum_drift"].get<double>() < 1e-3);
+        // The final body drawn in two views: one disc per body grain in each.
+        const std::string svg = mrjam_test::slurp(out.report["plots"]["final_body"].get<std::string>());
+        std::size_t circles = 0;
+        for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
+        CHECK(circles % 2 == 0);
+        CHECK(circles >= 2 * 0.8 * 300);
+        CHECK(circles <= 2 * 300);
     }
 }
 

@@ -88,6 +88,7 @@ TEST_SUITE("physics") {
         s["output"] = {{"directory", dir.file("out")}};
         CoalesceOptions o;
         o.progress = false;
+        o.report_path = dir.file("report.json");
         const CoalesceOutcome out = run_spinup(read_spinup_spec(s, "quick"), o);
         REQUIRE(out.exit_status == 0);
         const json& u = out.report["results"]["spin_up"];
@@ -102,6 +103,11 @@ TEST_SUITE("physics") {
         CHECK(u["first_deformation_rad_s"].get<double>() > limit);
         const json& last = u["steps"].back();
         CHECK(last["axis_ratio_c_a"].get<double>() < 0.95 * u["steps"][0]["axis_ratio_c_a"].get<double>());
+        // Every event carries the body's picture as it left it.
+        for (const json& e : u["events"]) {
+            REQUIRE(e.contains("picture"));
+            CHECK(mrjam_test::slurp(e["picture"].get<std::string>()).find("<circle") != std::string::npos);
+        }
         // The tree's net force removed, every force pairwise in sum: momentum to round-off.
         CHECK(u["largest_momentum_drift"].get<double>() < 1e-9);
         // Over the spin steps, held (100 steps) tree forces on a rotating pile: within 1e-3.

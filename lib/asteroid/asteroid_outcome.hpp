@@ -6,6 +6,7 @@
 
 #include "io/checkpoint.hpp"
 #include "run/runner.hpp"
+#include "system.hpp"
 
 namespace mrjam {
 
@@ -15,7 +16,13 @@ nlohmann::json asteroid_report(const RunOutcome& outcome, const char* mode, cons
                                const std::string& fidelity);
 
 // REPORT.json -> REPORT_<suffix>.svg, next to it.
-std::string plot_beside(const std::string& report_path, const char* suffix);
+std::string plot_beside(const std::string& report_path, const std::string& suffix);
+
+// The heaviest contact cluster drawn along and across the spin axis, coloured by distance from
+// its centre of mass, as REPORT_<suffix>.svg next to the report; returns the path, or an empty
+// string (and a warning on stderr) if it could not be written: a picture never costs the run.
+std::string body_views_beside(const std::string& report_path, const std::string& suffix, const System& s,
+                              const std::string& title);
 
 // The checkpoint's header, refused at --resume unless `mode` wrote it.
 CheckpointHeader read_mode_checkpoint(const std::string& path, const char* mode);

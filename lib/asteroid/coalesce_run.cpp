@@ -7,6 +7,7 @@
 #include "asteroid/body_diagnostics.hpp"
 #include "asteroid/rubble_ledger.hpp"
 #include "asteroid/rubble_start.hpp"
+#include "core/format.hpp"
 #include "io/checkpoint.hpp"
 #include "io/svg_plot.hpp"
 #include "run/interrupt.hpp"
@@ -171,6 +172,9 @@ CoalesceOutcome Coalescence::run() {
         const std::string svg = plot_beside(options_.report_path, "body");
         write_plot(svg);
         r["plots"] = {{"body_fraction", svg}};
+        const std::string views = body_views_beside(options_.report_path, "final_body", scene_->system,
+                                                    "The body at t = " + format_number(scene_->system.time, 4) + " s");
+        if (!views.empty()) r["plots"]["final_body"] = views;
         write_json_file(options_.report_path, r);
     }
     return out;

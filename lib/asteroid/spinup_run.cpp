@@ -8,6 +8,7 @@
 #include "asteroid/body_spin.hpp"
 #include "asteroid/rubble_ledger.hpp"
 #include "asteroid/rubble_start.hpp"
+#include "core/format.hpp"
 #include "gravity/self_gravity.hpp"
 #include "io/checkpoint.hpp"
 #include "io/svg_plot.hpp"
@@ -54,7 +55,7 @@ private:
     void set_up_stages();
     void observe(const System& s, std::size_t stage, long step);
     nlohmann::json step_row(const System& s, std::size_t stage) const;
-    void detect_events(const nlohmann::json& before, const nlohmann::json& now);
+    void detect_events(const System& s, const nlohmann::json& before, const nlohmann::json& now);
     nlohmann::json checkpoint_state() const;
     nlohmann::json summary() const;
     void write_plot(const std::string& path) const;
@@ -127,7 +128,7 @@ nlohmann::json SpinUp::step_row(const System& s, std::size_t stage) const {
 // Against the previous step's end: fission (a second body above the threshold), shedding (the
 // body lost more than the threshold), deformation (I_zz or c/a changed beyond the threshold with
 // no shedding).
-void SpinUp::detect_events(const nlohmann::json& before, const nlohmann::json& now) {
+void SpinUp::detect_events(const System& s, const nlohmann::json& before, const nlohmann::json& now) {
     auto val = [](const nlohmann::json& row, const char* key) { return row.at(key).get<double>(); };
     const double lost = val(before, "body_mass_fraction") - val(now, "body_mass_fraction");
     const double d_inertia = std::fabs(val(now, "i_zz_kg_m2") / val(before, "i_zz_kg_m2") - 1.0);
@@ -143,6 +144,14 @@ void SpinUp::detect_events(const nlohmann::json& before, const nlohmann::json& n
                            {"axis_ratio_change", d_shape},
                            {"fragments", now.at("fragments")},
                            {"bulk_density_kg_m3", now.at("bulk_density_kg_m3")}});
+        // The body as the event left it, along and across the spin axis.
+        if (options_.report_path.empty()) return;
+        const std::string suffix = "event" + std::to_string(events_.size()) + "_" + type;
+        const std::string views = body_views_beside(
+            options_.report_path, suffix, s,
+            std::string(type) + " at " + format_number(now.at("target_spin_rad_s").get<double>() * 1e6, 4) +
+                " urad/s (t = " + format_number(now.at("time_s").get<double>(), 5) + " s)");
+        if (!views.empty()) events_.back()["picture"] = views;
     };
     if (val(now, "second_body_mass_fraction") > spec_.fission_threshold) record("fission");
     if (lost > spec_.shedding_threshold) record("shedding");
@@ -160,7 +169,7 @@ void SpinUp::observe(const System& s, std::size_t stage, long step) {
     }
     if (step != scene_->stages[stage].steps) return;  // a step's end
     nlohmann::json row = step_row(s, stage);
-    if (!step_rows_.empty()) detect_events(step_rows_.back(), row);
+    if (!step_rows_.empty()) detect_events(s, step_rows_.back(), row);
     step_rows_.push_back(row);
 }
 
@@ -256,6 +265,9 @@ CoalesceOutcome SpinUp::run() {
         const std::string svg = plot_beside(options_.report_path, "spin");
         write_plot(svg);
         r["plots"] = {{"spin_steps", svg}};
+        const std::string views = body_views_beside(options_.report_path, "final_body", scene_->system,
+                                                    "The body at t = " + format_number(scene_->system.time, 5) + " s");
+        if (!views.empty()) r["plots"]["final_body"] = views;
         write_json_file(options_.report_path, r);
     }
     return out;
