@@ -4,11 +4,13 @@
 // deforms, its books closing (momentum to round-off with the tree's net force removed).
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "asteroid/body_spin.hpp"
 #include "asteroid/cloud.hpp"
+#include "asteroid/spin_limits.hpp"
 #include "asteroid/spinup_run.hpp"
 #include "asteroid/spinup_spec.hpp"
 #include "particles.hpp"
@@ -39,6 +41,40 @@ json small_pile(long count, const json& protocol) {
 }  // namespace
 
 TEST_SUITE("unit") {
+    TEST_CASE("spin limits: ellipsoid shape constants against the sphere and the oblate spheroid's closed form") {
+        for (double A : ellipsoid_shape_constants(5, 5, 5)) CHECK(A == rel(2.0 / 3.0).epsilon(1e-6));
+        const auto tri = ellipsoid_shape_constants(3, 2, 1);
+        CHECK(tri[0] + tri[1] + tri[2] == rel(2.0).epsilon(1e-6));
+        CHECK(tri[0] < tri[1]);  // the longest axis feels the weakest pull per length
+        CHECK(tri[1] < tri[2]);
+        // Oblate a = b > c, e^2 = 1 - c^2 / a^2: A_c = 2 / e^2 (1 - sqrt(1 - e^2) asin(e) / e).
+        const double a = 2, c = 1, e = std::sqrt(1 - c * c / (a * a));
+        const double A_c = 2 / (e * e) * (1 - std::sqrt(1 - e * e) * std::asin(e) / e);
+        const auto ob = ellipsoid_shape_constants(a, a, c);
+        CHECK(ob[2] == rel(A_c).epsilon(1e-6));
+        CHECK(ob[0] == rel(0.5 * (2 - A_c)).epsilon(1e-6));
+    }
+
+    TEST_CASE("spin limits: Holsapple's sphere, w^2 = (4 pi G rho / 3) 3 s / (1 / sqrt 3 + 2 s), and its inverse") {
+        const double rho = 1800, rigid = rigid_sphere_spin_limit(rho);
+        CHECK(rigid == rel(709e-6).epsilon(2e-3));  // the source's figure at 1800 kg/m3
+        const std::array<double, 3> sphere{10, 10, 10};
+        for (double deg : {10.0, 30.0, 45.0, 70.0}) {
+            const double sp = std::sin(deg * M_PI / 180), s = 2 * sp / (std::sqrt(3.0) * (3 - sp));
+            const double expected = rigid * std::sqrt(3 * s / (1 / std::sqrt(3.0) + 2 * s));
+            CHECK(drucker_prager_spin_limit(rho, sphere, deg * M_PI / 180) == rel(expected).epsilon(1e-9));
+            CHECK(friction_angle_for_spin(rho, sphere, expected) * 180 / M_PI == rel(deg).epsilon(1e-9));
+        }
+        CHECK(drucker_prager_spin_limit(rho, sphere, 30 * M_PI / 180) ==
+              rel(rigid * std::sqrt(2.0 / 3.0)).epsilon(1e-9));
+        CHECK(drucker_prager_spin_limit(rho, sphere, 0.5 * M_PI) == rel(rigid).epsilon(1e-9));  // no shear failure
+        CHECK(drucker_prager_spin_limit(rho, sphere, 0) < 1e-6 * rigid);  // a fluid cannot hold a sphere
+        CHECK(std::isnan(friction_angle_for_spin(rho, sphere, 1.01 * rigid)));
+        // An elongated body fails sooner than the sphere at the same angle (Holsapple's Fig. 3).
+        CHECK(drucker_prager_spin_limit(rho, {20, 10, 10}, 30 * M_PI / 180) <
+              drucker_prager_spin_limit(rho, sphere, 30 * M_PI / 180));
+    }
+
     TEST_CASE("spin-up step: a rigid rotation of the body at the rate given, its angular momentum I omega") {
         Particles p;
         const auto x = lattice_cloud(300, 1.1, 1.0, 0.0);
@@ -99,6 +135,8 @@ TEST_SUITE("physics") {
         CHECK(limit < 720e-6);
         // The steps below the limit leave the shape (no event at 300 or 600 urad/s); by 1200 urad/s,
         // 1.7-2 times the limit, the pile has deformed.
+        // Friction alone (atan 0.4 = 21.8 deg, cohesionless) would hold the sphere to less than the rigid limit.
+        CHECK(u["drucker_prager"]["limit_at_grain_friction_angle_rad_s"].get<double>() < limit);
         REQUIRE_FALSE(u["first_deformation_rad_s"].is_null());
         CHECK(u["first_deformation_rad_s"].get<double>() > limit);
         const json& last = u["steps"].back();

@@ -8,6 +8,7 @@
 #include "asteroid/body_spin.hpp"
 #include "asteroid/rubble_ledger.hpp"
 #include "asteroid/rubble_start.hpp"
+#include "asteroid/spin_limits.hpp"
 #include "core/format.hpp"
 #include "gravity/self_gravity.hpp"
 #include "io/checkpoint.hpp"
@@ -58,6 +59,7 @@ private:
     void detect_events(const System& s, const nlohmann::json& before, const nlohmann::json& now);
     nlohmann::json checkpoint_state() const;
     nlohmann::json summary() const;
+    nlohmann::json drucker_prager_summary(const nlohmann::json& settled) const;
     void write_plot(const std::string& path) const;
 
     SpinupSpec spec_;
@@ -185,6 +187,24 @@ nlohmann::json SpinUp::checkpoint_state() const {
             {"next_sample_s", next_sample_}};
 }
 
+// Holsapple's cohesionless Drucker-Prager limit of the settled body (its bulk density, its
+// equivalent ellipsoid spinning about its shortest axis) for a range of friction angles and for
+// the grains' own friction angle, atan(mu) (a packing's bulk angle is larger than that).
+nlohmann::json SpinUp::drucker_prager_summary(const nlohmann::json& settled) const {
+    const double rho = settled.at("bulk_density_kg_m3").get<double>();
+    const std::array<double, 3> axes = settled.at("semi_axes_m");
+    nlohmann::json limits = nlohmann::json::object();
+    for (int deg : {20, 25, 30, 35, 40, 45})
+        limits[std::to_string(deg)] = drucker_prager_spin_limit(rho, axes, deg * M_PI / 180);
+    const double grain_angle = std::atan(spec_.body.material.friction);
+    return {{"model",
+             "Holsapple (2007): volume-averaged stresses of a uniform ellipsoid at the Drucker-Prager "
+             "surface, cohesionless"},
+            {"limits_rad_s_by_friction_angle_deg", limits},
+            {"grain_friction_angle_deg", grain_angle * 180 / M_PI},
+            {"limit_at_grain_friction_angle_rad_s", drucker_prager_spin_limit(rho, axes, grain_angle)}};
+}
+
 // The settled body, the analytic rigid-sphere limit at its bulk density, and the first spin at
 // which it deformed and at which it lost mass or split (the source's deformation and disruption).
 nlohmann::json SpinUp::summary() const {
@@ -193,13 +213,23 @@ nlohmann::json SpinUp::summary() const {
     const nlohmann::json& settled = step_rows_.front();
     out["settled_body"] = settled;
     const double rho = settled.at("bulk_density_kg_m3").get<double>();
-    out["rigid_sphere_limit_rad_s"] = std::sqrt(4.0 * M_PI * kNewtonG * rho / 3.0);
+    out["rigid_sphere_limit_rad_s"] = rigid_sphere_spin_limit(rho);
+    out["drucker_prager"] = drucker_prager_summary(settled);
     out["first_deformation_rad_s"] = nullptr;
     out["first_disruption_rad_s"] = nullptr;
     for (const auto& e : events_) {
         const std::string type = e.at("event").get<std::string>();
         const char* key = type == "deformation" ? "first_deformation_rad_s" : "first_disruption_rad_s";
         if (out[key].is_null()) out[key] = e.at("target_spin_rad_s");
+    }
+    // The bulk friction angle each event implies: the angle whose limit is the spin it came at.
+    for (const auto& [key, implied] :
+         {std::pair{"first_deformation_rad_s", "friction_angle_implied_by_deformation_deg"},
+          std::pair{"first_disruption_rad_s", "friction_angle_implied_by_disruption_deg"}}) {
+        const double phi =
+            out[key].is_null() ? std::nan("") : friction_angle_for_spin(rho, settled.at("semi_axes_m"), out[key]);
+        out["drucker_prager"][implied] =
+            std::isfinite(phi) ? nlohmann::json(phi * 180 / M_PI) : nlohmann::json(nullptr);
     }
     // The angular momentum over the spin steps only: a cold cloud settling has next to none, so
     // a drift relative to it says nothing there.
