@@ -158,7 +158,9 @@ TEST_SUITE("cli") {
         "mrjam asteroid coalesce and spinup: Ctrl-C keeps a checkpoint; resumed it ends the run, and only its own mode "
         "reads it") {
         mrjam_test::TempDir dir;
-        // 400 grains for 4000 s (270,000 steps): a few seconds of work, interrupted after 1 s.
+        // 400 grains for 4000 s (270,000 steps): several seconds of work, interrupted half a second after
+        // the output directory appears (the handler is installed before it is made: a SIGINT before
+        // that would be lost, as a background job in a script ignores it until the handler is in).
         json c = {{"grains",
                    {{"diameter", "1 m"},
                     {"material", {{"density", "3000 kg/m3"}, {"youngs_modulus", "1 MPa"}, {"friction", 0.4}}}}},
@@ -166,10 +168,12 @@ TEST_SUITE("cli") {
                   {"run", {{"duration", "4000 s"}, {"sample_every", "400 s"}}},
                   {"output", {{"directory", dir.file("out")}}}};
         mrjam_test::write_text(dir.file("c.json"), c.dump(2));
-        const auto cut = mrjam_test::mrjam(dir,
-                                           "asteroid coalesce " + mrjam_test::quote(dir.file("c.json")) + " --report " +
-                                               mrjam_test::quote(dir.file("cut.json")),
-                                           " & pid=$!; sleep 1; kill -INT $pid; wait $pid");
+        const auto cut =
+            mrjam_test::mrjam(dir,
+                              "asteroid coalesce " + mrjam_test::quote(dir.file("c.json")) + " --report " +
+                                  mrjam_test::quote(dir.file("cut.json")),
+                              " & pid=$!; for i in $(seq 400); do [ -d " + mrjam_test::quote(dir.file("out")) +
+                                  " ] && break; sleep 0.05; done; sleep 0.5; kill -INT $pid; wait $pid");
         CAPTURE(cut.err);
         REQUIRE(cut.exit_code == 130);
         const std::string checkpoint = dir.file("out/checkpoint.mrjam");

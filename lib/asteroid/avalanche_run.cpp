@@ -231,23 +231,11 @@ CoalesceOutcome Avalanche::run() {
 }  // namespace
 
 CoalesceOutcome run_avalanche(const AvalancheSpec& spec, const CoalesceOptions& options) {
-    install_interrupt_handler();
-    prepare_output_directory(spec.output_directory, "/output/directory");
-    Avalanche a(spec, options);
-    a.start_fresh();
-    return a.run();
+    return run_fresh<Avalanche>(spec, spec.output_directory, options);
 }
 
 CoalesceOutcome resume_avalanche(const std::string& checkpoint, const CoalesceOptions& options) {
-    const CheckpointHeader header = read_mode_checkpoint(checkpoint, kMode);
-    const nlohmann::json& state = header.history.at("state");
-    CoalesceOptions o = options;
-    o.fidelity = state.at("fidelity").get<std::string>();
-    const AvalancheSpec spec = read_avalanche_spec(state.at("avalanche_input"), o.fidelity);
-    install_interrupt_handler();
-    Avalanche a(spec, o);
-    a.resume(checkpoint, state, header);
-    return a.run();
+    return run_resumed<Avalanche>(checkpoint, options, kMode, "avalanche_input", read_avalanche_spec);
 }
 
 }  // namespace mrjam

@@ -27,23 +27,12 @@ public:
 
     // A fresh run: the cloud built, set moving, checked to be bound, its tree error measured.
     void start_fresh() {
-        RubbleStart r = start_rubble(spec_, options_.threads, options_.fidelity, kMode);
-        scene_ = std::move(r.scene);
-        cloud_ = r.cloud;
-        accuracy_ = r.gravity_accuracy;
-        ledger_.open(scene_->system, r.escape_radius, r.energetics.radius);
+        run_.begin(spec_, options_.threads, options_.fidelity, kMode);
         set_up_stage();
     }
 
     void resume(const std::string& path, const nlohmann::json& state, const CheckpointHeader& header) {
-        scene_ = restore_rubble(path, header.resolved_scene, options_.threads);
-        start_ = header.position;
-        stage_log_ = header.history.at("stage_log");
-        cloud_ = state.at("cloud");
-        accuracy_ = state.at("gravity_accuracy");
-        samples_ = state.at("samples");
-        ledger_ = RubbleLedger::from_json(state.at("ledger"));
-        next_sample_ = state.at("next_sample_s").get<double>();
+        run_.restore(path, state, header, options_.threads);
         set_up_stage();
     }
 
@@ -58,55 +47,46 @@ private:
 
     CoalesceSpec spec_;
     CoalesceOptions options_;
-    std::unique_ptr<Scene> scene_;
-    ProtocolPosition start_;
-    nlohmann::json stage_log_;
-    nlohmann::json cloud_, accuracy_;
-    nlohmann::json samples_ = nlohmann::json::array();
-    RubbleLedger ledger_;
-    double next_sample_ = 0;
+    RubbleRun run_;
 };
 
 // One stage of the run's duration; the escape test every twentieth of a sample interval (a grain
 // past the escape sphere must not wander far out of the box first), the diagnostics at samples.
 void Coalescence::set_up_stage() {
-    Stage& st = scene_->stages.at(0);
+    Stage& st = run_.scene->stages.at(0);
     st.name = "coalescing";
-    st.observe_every = std::max(1L, std::lround(spec_.sample_every / (20.0 * scene_->system.dt)));
+    st.observe_every = std::max(1L, std::lround(spec_.sample_every / (20.0 * run_.scene->system.dt)));
 }
 
 void Coalescence::observe(const System& s) {
     const bool last = s.time >= spec_.duration - 0.5 * s.dt;
-    if (s.time < next_sample_ - 0.5 * s.dt && !last) return;
-    nlohmann::json row = to_json(diagnose_body(s, ledger_.initial_mass()));
-    row["escaped_grains"] = ledger_.escaped();
-    row["conservation"] = ledger_.conservation(s);
-    samples_.push_back(row);
-    next_sample_ += spec_.sample_every;
+    if (s.time < run_.next_sample - 0.5 * s.dt && !last) return;
+    nlohmann::json row = to_json(diagnose_body(s, run_.ledger.initial_mass()));
+    row["escaped_grains"] = run_.ledger.escaped();
+    row["conservation"] = run_.ledger.conservation(s);
+    run_.samples.push_back(row);
+    run_.next_sample += spec_.sample_every;
 }
 
 nlohmann::json Coalescence::checkpoint_state() const {
-    return {{"cloud", cloud_},
-            {"gravity_accuracy", accuracy_},
-            {"samples", samples_},
-            {"coalesce_input", spec_.resolved},
-            {"fidelity", options_.fidelity},
-            {"ledger", ledger_.to_json()},
-            {"next_sample_s", next_sample_}};
+    nlohmann::json state = run_.save();
+    state["coalesce_input"] = spec_.resolved;
+    state["fidelity"] = options_.fidelity;
+    return state;
 }
 
 // The figures the source compares across magnetisations (section 4.2): how fast the body
 // gathers mass, how porous it is, how much of what is left outside sits in chains and clumps.
 nlohmann::json Coalescence::summary() const {
-    nlohmann::json out = {{"samples", samples_.size()},
-                          {"escaped_grains", ledger_.escaped()},
-                          {"escaped_mass_fraction", ledger_.escaped_mass() / ledger_.initial_mass()}};
-    if (samples_.empty()) return out;
-    const nlohmann::json& last = samples_.back();
+    nlohmann::json out = {{"samples", run_.samples.size()},
+                          {"escaped_grains", run_.ledger.escaped()},
+                          {"escaped_mass_fraction", run_.ledger.escaped_mass() / run_.ledger.initial_mass()}};
+    if (run_.samples.empty()) return out;
+    const nlohmann::json& last = run_.samples.back();
     out["final"] = last;
     for (double share : {0.25, 0.5}) {
         nlohmann::json t = nullptr;
-        for (const auto& row : samples_)
+        for (const auto& row : run_.samples)
             if (row.at("body_mass_fraction").get<double>() >= share) {
                 t = row.at("time_s");
                 break;
@@ -114,7 +94,7 @@ nlohmann::json Coalescence::summary() const {
         out[share == 0.25 ? "time_to_quarter_mass_s" : "time_to_half_mass_s"] = t;
     }
     double worst_p = 0, worst_l = 0;
-    for (const auto& row : samples_) {
+    for (const auto& row : run_.samples) {
         worst_p = std::max(worst_p, row.at("conservation").at("momentum_drift").get<double>());
         worst_l = std::max(worst_l, row.at("conservation").at("angular_momentum_drift").get<double>());
     }
@@ -136,7 +116,7 @@ void Coalescence::write_plot(const std::string& path) const {
     grouped.colour = "#ff7f0e";
     clumped.colour = "#2ca02c";
     clumped.dashed = true;
-    for (const auto& row : samples_) {
+    for (const auto& row : run_.samples) {
         const double t = row.at("time_s").get<double>();
         body.x.push_back(t);
         body.y.push_back(row.at("body_mass_fraction").get<double>());
@@ -154,26 +134,27 @@ CoalesceOutcome Coalescence::run() {
     run.mode = kMode;
     run.scene_path = options_.scene_path;
     run.progress = options_.progress;
-    run.resumed_stage_log = stage_log_;
+    run.resumed_stage_log = run_.stage_log;
     run.checkpoint_state = [this] { return checkpoint_state(); };
-    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { ledger_.remove_escaped(s); }});
+    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { run_.ledger.remove_escaped(s); }});
     const RunOutcome outcome =
-        run_protocol(*scene_, run, start_, [this](const System& s, std::size_t, long) { observe(s); });
+        run_protocol(*run_.scene, run, run_.start, [this](const System& s, std::size_t, long) { observe(s); });
     CoalesceOutcome out;
     out.exit_status = outcome.exit_status;
     nlohmann::json& r = out.report;
     r = asteroid_report(outcome, kMode, spec_.resolved, options_.fidelity);
     r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
-    r["cloud"] = cloud_;
-    r["gravity_accuracy"] = accuracy_;
+    r["cloud"] = run_.cloud;
+    r["gravity_accuracy"] = run_.gravity_accuracy;
     r["results"]["coalescence"] = summary();
-    r["results"]["coalescence"]["series"] = samples_;
+    r["results"]["coalescence"]["series"] = run_.samples;
     if (!options_.report_path.empty()) {
         const std::string svg = plot_beside(options_.report_path, "body");
         write_plot(svg);
         r["plots"] = {{"body_fraction", svg}};
-        const std::string views = body_views_beside(options_.report_path, "final_body", scene_->system,
-                                                    "The body at t = " + format_number(scene_->system.time, 4) + " s");
+        const std::string views =
+            body_views_beside(options_.report_path, "final_body", run_.scene->system,
+                              "The body at t = " + format_number(run_.scene->system.time, 4) + " s");
         if (!views.empty()) r["plots"]["final_body"] = views;
         write_json_file(options_.report_path, r);
     }
@@ -183,23 +164,11 @@ CoalesceOutcome Coalescence::run() {
 }  // namespace
 
 CoalesceOutcome run_coalescence(const CoalesceSpec& spec, const CoalesceOptions& options) {
-    install_interrupt_handler();
-    prepare_output_directory(spec.output_directory, "/output/directory");
-    Coalescence c(spec, options);
-    c.start_fresh();
-    return c.run();
+    return run_fresh<Coalescence>(spec, spec.output_directory, options);
 }
 
 CoalesceOutcome resume_coalescence(const std::string& checkpoint, const CoalesceOptions& options) {
-    const CheckpointHeader header = read_mode_checkpoint(checkpoint, kMode);
-    const nlohmann::json& state = header.history.at("state");
-    CoalesceOptions o = options;
-    o.fidelity = state.at("fidelity").get<std::string>();
-    CoalesceSpec spec = read_coalesce_spec(state.at("coalesce_input"), o.fidelity);
-    install_interrupt_handler();
-    Coalescence c(spec, o);
-    c.resume(checkpoint, state, header);
-    return c.run();
+    return run_resumed<Coalescence>(checkpoint, options, kMode, "coalesce_input", read_coalesce_spec);
 }
 
 }  // namespace mrjam

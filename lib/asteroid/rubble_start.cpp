@@ -121,4 +121,32 @@ std::unique_ptr<Scene> restore_rubble(const std::string& checkpoint, const nlohm
     return scene;
 }
 
+void RubbleRun::begin(const CoalesceSpec& spec, int threads, const std::string& fidelity, const char* mode) {
+    RubbleStart r = start_rubble(spec, threads, fidelity, mode);
+    scene = std::move(r.scene);
+    cloud = r.cloud;
+    gravity_accuracy = r.gravity_accuracy;
+    ledger.open(scene->system, r.escape_radius, r.energetics.radius);
+}
+
+void RubbleRun::restore(const std::string& checkpoint, const nlohmann::json& state, const CheckpointHeader& header,
+                        int threads) {
+    scene = restore_rubble(checkpoint, header.resolved_scene, threads);
+    start = header.position;
+    stage_log = header.history.at("stage_log");
+    cloud = state.at("cloud");
+    gravity_accuracy = state.at("gravity_accuracy");
+    samples = state.at("samples");
+    ledger = RubbleLedger::from_json(state.at("ledger"));
+    next_sample = state.at("next_sample_s").get<double>();
+}
+
+nlohmann::json RubbleRun::save() const {
+    return {{"cloud", cloud},
+            {"gravity_accuracy", gravity_accuracy},
+            {"samples", samples},
+            {"ledger", ledger.to_json()},
+            {"next_sample_s", next_sample}};
+}
+
 }  // namespace mrjam

@@ -8,6 +8,9 @@
 
 #include "asteroid/cloud.hpp"
 #include "asteroid/coalesce_spec.hpp"
+#include "asteroid/rubble_ledger.hpp"
+#include "io/checkpoint.hpp"
+#include "run/runner.hpp"
 #include "scene/scene.hpp"
 
 namespace mrjam {
@@ -25,5 +28,25 @@ RubbleStart start_rubble(const CoalesceSpec& spec, int threads, const std::strin
 
 // The engine scene a checkpoint carries, rebuilt without grains and filled from the checkpoint.
 std::unique_ptr<Scene> restore_rubble(const std::string& checkpoint, const nlohmann::json& resolved_scene, int threads);
+
+// What a cloud mode (coalesce, spinup) carries from its start, through its checkpoints, to its
+// report: the engine scene, where the protocol stands, the cloud's and the tree's figures, the
+// body's samples and the books of what escaped.
+struct RubbleRun {
+    std::unique_ptr<Scene> scene;
+    ProtocolPosition start;
+    nlohmann::json stage_log;
+    nlohmann::json cloud, gravity_accuracy;
+    nlohmann::json samples = nlohmann::json::array();
+    RubbleLedger ledger;
+    double next_sample = 0;  // s, the next body sample
+
+    // A fresh run: start_rubble, and the ledger opened on the cloud.
+    void begin(const CoalesceSpec& spec, int threads, const std::string& fidelity, const char* mode);
+    // From a checkpoint the mode wrote, with `state` its history's state (as save() wrote it).
+    void restore(const std::string& checkpoint, const nlohmann::json& state, const CheckpointHeader& header,
+                 int threads);
+    nlohmann::json save() const;  // the keys restore() reads
+};
 
 }  // namespace mrjam

@@ -28,25 +28,14 @@ public:
     SpinUp(SpinupSpec spec, CoalesceOptions options) : spec_(std::move(spec)), options_(std::move(options)) {}
 
     void start_fresh() {
-        RubbleStart r = start_rubble(spec_.body, options_.threads, options_.fidelity, kMode);
-        scene_ = std::move(r.scene);
-        cloud_ = r.cloud;
-        accuracy_ = r.gravity_accuracy;
-        ledger_.open(scene_->system, r.escape_radius, r.energetics.radius);
+        run_.begin(spec_.body, options_.threads, options_.fidelity, kMode);
         set_up_stages();
     }
 
     void resume(const std::string& path, const nlohmann::json& state, const CheckpointHeader& header) {
-        scene_ = restore_rubble(path, header.resolved_scene, options_.threads);
-        start_ = header.position;
-        stage_log_ = header.history.at("stage_log");
-        cloud_ = state.at("cloud");
-        accuracy_ = state.at("gravity_accuracy");
-        samples_ = state.at("samples");
+        run_.restore(path, state, header, options_.threads);
         step_rows_ = state.at("steps");
         events_ = state.at("events");
-        ledger_ = RubbleLedger::from_json(state.at("ledger"));
-        next_sample_ = state.at("next_sample_s").get<double>();
         set_up_stages();
     }
 
@@ -64,19 +53,14 @@ private:
 
     SpinupSpec spec_;
     CoalesceOptions options_;
-    std::unique_ptr<Scene> scene_;
-    ProtocolPosition start_;
-    nlohmann::json stage_log_, cloud_, accuracy_;
-    nlohmann::json samples_ = nlohmann::json::array(), step_rows_ = nlohmann::json::array();
-    nlohmann::json events_ = nlohmann::json::array();
-    RubbleLedger ledger_;
-    double next_sample_ = 0;
+    RubbleRun run_;
+    nlohmann::json step_rows_ = nlohmann::json::array(), events_ = nlohmann::json::array();
 };
 
 // Stage 0 settles the gathered body; stage k adds the k-th increment to the body as it starts
 // (once: a run resumed inside the stage has the spin in its checkpoint already).
 void SpinUp::set_up_stages() {
-    const double dt = scene_->system.dt;
+    const double dt = run_.scene->system.dt;
     const long every = std::max(1L, std::lround(spec_.body.sample_every / (20.0 * dt)));
     auto stage = [&](std::string name, double duration) {
         Stage st;
@@ -88,24 +72,25 @@ void SpinUp::set_up_stages() {
         st.keep_forces = true;
         return st;
     };
-    scene_->stages.clear();
+    run_.scene->stages.clear();
     Stage settle = stage("settling", spec_.settle_time);
     settle.keep_forces = false;
-    scene_->stages.push_back(settle);
+    run_.scene->stages.push_back(settle);
     for (int k = 1; k <= spec_.steps(); ++k) {
         char name[64];
         std::snprintf(name, sizeof name, "spin step %d: %.0f urad/s", k, spec_.target(k) * 1e6);
         Stage st = stage(name, spec_.interval(k));
         const double delta = spec_.increment;
         st.on_start = [this, delta](System& s, bool fresh) {
-            if (fresh) ledger_.inject_angular_momentum(spin_up_body(s.particles, heaviest_cluster(s).grains, delta));
+            if (fresh)
+                run_.ledger.inject_angular_momentum(spin_up_body(s.particles, heaviest_cluster(s).grains, delta));
         };
-        scene_->stages.push_back(st);
+        run_.scene->stages.push_back(st);
     }
 }
 
 nlohmann::json SpinUp::step_row(const System& s, std::size_t stage) const {
-    const BodyDiagnostics d = diagnose_body(s, ledger_.initial_mass());
+    const BodyDiagnostics d = diagnose_body(s, run_.ledger.initial_mass());
     const BodyMembers members = heaviest_cluster(s);
     const BodySpin spin = body_spin(s.particles, members.grains);
     std::size_t fragments = 0;  // bodies of at least 10 grains besides the main one
@@ -122,9 +107,9 @@ nlohmann::json SpinUp::step_row(const System& s, std::size_t stage) const {
             {"axis_ratio_c_a", d.semi_axes[2] / d.semi_axes[0]},
             {"bulk_density_kg_m3", d.bulk_density},
             {"porosity", d.porosity},
-            {"second_body_mass_fraction", second / ledger_.initial_mass()},
+            {"second_body_mass_fraction", second / run_.ledger.initial_mass()},
             {"fragments", fragments},
-            {"escaped_grains", ledger_.escaped()}};
+            {"escaped_grains", run_.ledger.escaped()}};
 }
 
 // Against the previous step's end: fission (a second body above the threshold), shedding (the
@@ -163,28 +148,25 @@ void SpinUp::detect_events(const System& s, const nlohmann::json& before, const 
 }
 
 void SpinUp::observe(const System& s, std::size_t stage, long step) {
-    if (s.time >= next_sample_ - 0.5 * s.dt) {
-        nlohmann::json row = to_json(diagnose_body(s, ledger_.initial_mass()));
-        row["conservation"] = ledger_.conservation(s);
-        samples_.push_back(row);
-        next_sample_ += spec_.body.sample_every;
+    if (s.time >= run_.next_sample - 0.5 * s.dt) {
+        nlohmann::json row = to_json(diagnose_body(s, run_.ledger.initial_mass()));
+        row["conservation"] = run_.ledger.conservation(s);
+        run_.samples.push_back(row);
+        run_.next_sample += spec_.body.sample_every;
     }
-    if (step != scene_->stages[stage].steps) return;  // a step's end
+    if (step != run_.scene->stages[stage].steps) return;  // a step's end
     nlohmann::json row = step_row(s, stage);
     if (!step_rows_.empty()) detect_events(s, step_rows_.back(), row);
     step_rows_.push_back(row);
 }
 
 nlohmann::json SpinUp::checkpoint_state() const {
-    return {{"cloud", cloud_},
-            {"gravity_accuracy", accuracy_},
-            {"samples", samples_},
-            {"steps", step_rows_},
-            {"events", events_},
-            {"spinup_input", spec_.body.resolved},
-            {"fidelity", options_.fidelity},
-            {"ledger", ledger_.to_json()},
-            {"next_sample_s", next_sample_}};
+    nlohmann::json state = run_.save();
+    state["steps"] = step_rows_;
+    state["events"] = events_;
+    state["spinup_input"] = spec_.body.resolved;
+    state["fidelity"] = options_.fidelity;
+    return state;
 }
 
 // Holsapple's cohesionless Drucker-Prager limit of the settled body (its bulk density, its
@@ -208,7 +190,7 @@ nlohmann::json SpinUp::drucker_prager_summary(const nlohmann::json& settled) con
 // The settled body, the analytic rigid-sphere limit at its bulk density, and the first spin at
 // which it deformed and at which it lost mass or split (the source's deformation and disruption).
 nlohmann::json SpinUp::summary() const {
-    nlohmann::json out = {{"steps", step_rows_}, {"events", events_}, {"escaped_grains", ledger_.escaped()}};
+    nlohmann::json out = {{"steps", step_rows_}, {"events", events_}, {"escaped_grains", run_.ledger.escaped()}};
     if (step_rows_.empty()) return out;
     const nlohmann::json& settled = step_rows_.front();
     out["settled_body"] = settled;
@@ -234,7 +216,7 @@ nlohmann::json SpinUp::summary() const {
     // The angular momentum over the spin steps only: a cold cloud settling has next to none, so
     // a drift relative to it says nothing there.
     double worst_p = 0, worst_l = 0;
-    for (const auto& row : samples_) {
+    for (const auto& row : run_.samples) {
         worst_p = std::max(worst_p, row.at("conservation").at("momentum_drift").get<double>());
         if (row.at("time_s").get<double>() > spec_.settle_time)
             worst_l = std::max(worst_l, row.at("conservation").at("angular_momentum_drift").get<double>());
@@ -276,27 +258,28 @@ CoalesceOutcome SpinUp::run() {
     run.mode = kMode;
     run.scene_path = options_.scene_path;
     run.progress = options_.progress;
-    run.resumed_stage_log = stage_log_;
+    run.resumed_stage_log = run_.stage_log;
     run.checkpoint_state = [this] { return checkpoint_state(); };
     run.checkpoint_each_stage = true;  // a finished step is never redone
-    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { ledger_.remove_escaped(s); }});
-    const RunOutcome outcome =
-        run_protocol(*scene_, run, start_, [this](const System& s, std::size_t k, long i) { observe(s, k, i); });
+    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { run_.ledger.remove_escaped(s); }});
+    const RunOutcome outcome = run_protocol(*run_.scene, run, run_.start,
+                                            [this](const System& s, std::size_t k, long i) { observe(s, k, i); });
     CoalesceOutcome out;
     out.exit_status = outcome.exit_status;
     nlohmann::json& r = out.report;
     r = asteroid_report(outcome, kMode, spec_.body.resolved, options_.fidelity);
     r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
-    r["cloud"] = cloud_;
-    r["gravity_accuracy"] = accuracy_;
+    r["cloud"] = run_.cloud;
+    r["gravity_accuracy"] = run_.gravity_accuracy;
     r["results"]["spin_up"] = summary();
-    r["results"]["spin_up"]["series"] = samples_;
+    r["results"]["spin_up"]["series"] = run_.samples;
     if (!options_.report_path.empty()) {
         const std::string svg = plot_beside(options_.report_path, "spin");
         write_plot(svg);
         r["plots"] = {{"spin_steps", svg}};
-        const std::string views = body_views_beside(options_.report_path, "final_body", scene_->system,
-                                                    "The body at t = " + format_number(scene_->system.time, 5) + " s");
+        const std::string views =
+            body_views_beside(options_.report_path, "final_body", run_.scene->system,
+                              "The body at t = " + format_number(run_.scene->system.time, 5) + " s");
         if (!views.empty()) r["plots"]["final_body"] = views;
         write_json_file(options_.report_path, r);
     }
@@ -306,23 +289,11 @@ CoalesceOutcome SpinUp::run() {
 }  // namespace
 
 CoalesceOutcome run_spinup(const SpinupSpec& spec, const CoalesceOptions& options) {
-    install_interrupt_handler();
-    prepare_output_directory(spec.body.output_directory, "/output/directory");
-    SpinUp s(spec, options);
-    s.start_fresh();
-    return s.run();
+    return run_fresh<SpinUp>(spec, spec.body.output_directory, options);
 }
 
 CoalesceOutcome resume_spinup(const std::string& checkpoint, const CoalesceOptions& options) {
-    const CheckpointHeader header = read_mode_checkpoint(checkpoint, kMode);
-    const nlohmann::json& state = header.history.at("state");
-    CoalesceOptions o = options;
-    o.fidelity = state.at("fidelity").get<std::string>();
-    SpinupSpec spec = read_spinup_spec(state.at("spinup_input"), o.fidelity);
-    install_interrupt_handler();
-    SpinUp s(spec, o);
-    s.resume(checkpoint, state, header);
-    return s.run();
+    return run_resumed<SpinUp>(checkpoint, options, kMode, "spinup_input", read_spinup_spec);
 }
 
 }  // namespace mrjam
