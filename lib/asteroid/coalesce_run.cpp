@@ -130,32 +130,21 @@ void Coalescence::write_plot(const std::string& path) const {
 }
 
 CoalesceOutcome Coalescence::run() {
-    RunOptions run;
-    run.mode = kMode;
-    run.scene_path = options_.scene_path;
-    run.progress = options_.progress;
-    run.resumed_stage_log = run_.stage_log;
+    RunOptions run = run_.run_options(kMode, options_.scene_path, options_.progress);
     run.checkpoint_state = [this] { return checkpoint_state(); };
-    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { run_.ledger.remove_escaped(s); }});
     const RunOutcome outcome =
         run_protocol(*run_.scene, run, run_.start, [this](const System& s, std::size_t, long) { observe(s); });
     CoalesceOutcome out;
     out.exit_status = outcome.exit_status;
     nlohmann::json& r = out.report;
-    r = asteroid_report(outcome, kMode, spec_.resolved, options_.fidelity);
-    r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
-    r["cloud"] = run_.cloud;
-    r["gravity_accuracy"] = run_.gravity_accuracy;
+    r = run_.report(outcome, kMode, spec_.resolved, options_.fidelity);
     r["results"]["coalescence"] = summary();
     r["results"]["coalescence"]["series"] = run_.samples;
     if (!options_.report_path.empty()) {
         const std::string svg = plot_beside(options_.report_path, "body");
         write_plot(svg);
         r["plots"] = {{"body_fraction", svg}};
-        const std::string views =
-            body_views_beside(options_.report_path, "final_body", run_.scene->system,
-                              "The body at t = " + format_number(run_.scene->system.time, 4) + " s");
-        if (!views.empty()) r["plots"]["final_body"] = views;
+        run_.draw_final_body(r, options_.report_path);
         write_json_file(options_.report_path, r);
     }
     return out;

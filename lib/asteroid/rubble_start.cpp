@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "asteroid/asteroid_outcome.hpp"
 #include "asteroid/coalesce_scene.hpp"
 #include "core/format.hpp"
 #include "gravity/self_gravity.hpp"
@@ -147,6 +148,31 @@ nlohmann::json RubbleRun::save() const {
             {"samples", samples},
             {"ledger", ledger.to_json()},
             {"next_sample_s", next_sample}};
+}
+
+RunOptions RubbleRun::run_options(const char* mode, const std::string& scene_path, bool progress) {
+    RunOptions run;
+    run.mode = mode;
+    run.scene_path = scene_path;
+    run.progress = progress;
+    run.resumed_stage_log = stage_log;
+    run.modifiers.push_back({"escape", [this](System& s, std::size_t) { ledger.remove_escaped(s); }});
+    return run;
+}
+
+nlohmann::json RubbleRun::report(const RunOutcome& outcome, const char* mode, const nlohmann::json& inputs,
+                                 const std::string& fidelity) const {
+    nlohmann::json r = asteroid_report(outcome, mode, inputs, fidelity);
+    r["engine_inputs"]["grains"][0]["placement"]["positions"] = "(the cloud's lattice sites; cloud block)";
+    r["cloud"] = cloud;
+    r["gravity_accuracy"] = gravity_accuracy;
+    return r;
+}
+
+void RubbleRun::draw_final_body(nlohmann::json& report, const std::string& report_path) const {
+    const std::string views = body_views_beside(report_path, "final_body", scene->system,
+                                                "The body at t = " + format_number(scene->system.time, 5) + " s");
+    if (!views.empty()) report["plots"]["final_body"] = views;
 }
 
 }  // namespace mrjam

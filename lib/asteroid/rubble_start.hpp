@@ -47,6 +47,16 @@ struct RubbleRun {
     void restore(const std::string& checkpoint, const nlohmann::json& state, const CheckpointHeader& header,
                  int threads);
     nlohmann::json save() const;  // the keys restore() reads
+
+    // The run loop's options every cloud mode sets: its name, progress, where a resumed run stands,
+    // the grains past the escape sphere taken out (the mode adds its checkpoint state).
+    RunOptions run_options(const char* mode, const std::string& scene_path, bool progress);
+
+    // The report's envelope (asteroid_report) with the cloud's and the tree's figures.
+    nlohmann::json report(const RunOutcome& outcome, const char* mode, const nlohmann::json& inputs,
+                          const std::string& fidelity) const;
+    // The body as the run left it, drawn beside the report as `plots.final_body`.
+    void draw_final_body(nlohmann::json& report, const std::string& report_path) const;
 };
 
 }  // namespace mrjam
