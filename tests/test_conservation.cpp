@@ -316,6 +316,14 @@ TEST_SUITE("physics") {
         for (long i = 0; i < steps; ++i) advance(heavy.system);
         const double v_heavy = m * 9.81 / (6 * kPi * mu * r);
         CHECK(-heavy.system.particles.velocity[0].z == rel(v_heavy).epsilon(1e-6));
+        // At a share s of the viscosity (the jam mode's fast-forwarded closed period) the grain
+        // settles 1 / s times faster, after 1 / s times as long a relaxation.
+        Scene thin = build(single_grain_in_fluid({{"viscosity", mu}}, {"0.5 mm", "0.5 mm", "0.5 mm"}, true));
+        constexpr double share = 0.1;
+        thin.system.terms.find<DragTerm>()->set_viscosity_share(share);
+        prepare(thin.system);
+        for (long i = 0; i < static_cast<long>(steps / share); ++i) advance(thin.system);
+        CHECK(-thin.system.particles.velocity[0].z == rel(v_heavy / share).epsilon(1e-6));
     }
 
     TEST_CASE("drag: a grain at rest in a Couette flow reaches the local fluid velocity") {

@@ -477,6 +477,10 @@ TEST_SUITE("cli") {
         refused("settle_window", {{"protocol", {{"magnetise_time", "0.3 ms"}, {"settle_window", "0.2 ms"}}}},
                 "/protocol/settle_window: two windows must fit in protocol/magnetise_time (0.3 ms)");
         refused("settle_tolerance", {{"protocol", {{"settle_tolerance", 0}}}}, "/protocol/settle_tolerance");
+        refused("viscosity_share", {{"protocol", {{"magnetise_viscosity_share", 0}}}},
+                "/protocol/magnetise_viscosity_share");
+        refused("viscosity_share_open", {{"protocol", {{"order", "open_first"}, {"magnetise_viscosity_share", 0.1}}}},
+                "/protocol/magnetise_viscosity_share: applies to protocol/order \"closed_first\" only");
         refused("closed_prescribed", {{"fluid", {{"flow", "prescribed"}}}}, "/protocol/order: closed_first applies");
         // The field is never assumed: no block, or a uniform one without its flux density, is refused.
         expect_mode_refused(dir, "jam", "no_field", {{"valve", {{"constriction", "30x"}}}}, "/field: required");

@@ -71,6 +71,8 @@ nlohmann::json magnetisation_results(const JamProtocolState& st, const JamProtoc
              "protocol/settle_tolerance over one protocol/settle_window, after at least two windows"},
             {"settled", st.settled},
             {"duration_s", st.magnetise_end >= 0 ? nlohmann::json(st.magnetise_end - p.flow_time) : nullptr},
+            // Below 1 the closed period was fast-forwarded: duration_s / share is its overdamped length.
+            {"viscosity_share", p.magnetise_viscosity_share},
             {"last_window_change", last_change},
             {"history", {{"columns", {"time_s", "mean_coordination", "magnetic_energy_J"}}, {"rows", rows}}}};
 }

@@ -156,6 +156,16 @@ private:
         if (coupled_ || valve_flow_)
             run.modifiers.push_back(
                 {"carrier_flow", [this](System& sys, std::size_t stage) { update_flow(sys, stage); }});
+        // The fast-forwarded closed period: the carrier at its share of the viscosity while the
+        // grains are magnetised at rest, at its own from the pressure on (a resumed run sets it
+        // again at its first observation).
+        if (p_.magnetise_viscosity_share < 1)
+            run.modifiers.push_back({"closed_period_viscosity", [this](System& sys, std::size_t stage) {
+                                         if (DragTerm* drag = sys.terms.find<DragTerm>())
+                                             drag->set_viscosity_share(jam_phase(p_, stage) == JamPhase::magnetise
+                                                                           ? p_.magnetise_viscosity_share
+                                                                           : 1.0);
+                                     }});
     }
 
     void drain(System& sys) {

@@ -119,7 +119,7 @@ void read_protocol_order(SceneNode& protocol, JamProtocol& p) {
     const std::string order = protocol.choice("order", {"closed_first", "open_first"}, "closed_first");
     p.order = order == "closed_first" ? JamOrder::closed_first : JamOrder::open_first;
     const bool closed = p.order == JamOrder::closed_first;
-    for (const char* key : {"magnetise_time", "settle_window", "settle_tolerance"})
+    for (const char* key : {"magnetise_time", "settle_window", "settle_tolerance", "magnetise_viscosity_share"})
         if (!closed && protocol.has(key))
             protocol.fail(key,
                           "applies to protocol/order \"closed_first\" only (the magnet switched on at rest): drop it");
@@ -127,6 +127,8 @@ void read_protocol_order(SceneNode& protocol, JamProtocol& p) {
     p.magnetise_time = protocol.quantity("magnetise_time", units::time, p.magnetise_time, Bounds::positive());
     p.settle_window = protocol.quantity("settle_window", units::time, p.settle_window, Bounds::positive());
     p.settle_tolerance = protocol.number("settle_tolerance", p.settle_tolerance, Bounds::open(0.0, 1.0));
+    p.magnetise_viscosity_share =
+        protocol.number("magnetise_viscosity_share", p.magnetise_viscosity_share, Bounds::open_closed(0.0, 1.0));
     if (2 * p.settle_window > p.magnetise_time)
         protocol.fail("settle_window", "two windows must fit in protocol/magnetise_time (" +
                                            format_number(p.magnetise_time * 1e3) +

@@ -34,6 +34,12 @@ struct JamProtocol {
     double magnetise_time = 1e-3;    // s, at most
     double settle_window = 0.1e-3;   // s
     double settle_tolerance = 0.02;  // relative change per window that counts as settled
+    // The carrier's viscosity while magnetising at rest, as a share of its own. The experiment's
+    // closed period lasted seconds (operated by hand), in which the field's gradient draws the grains
+    // towards its maximum at millimetres a second; the model's fraction of a millisecond sees a
+    // micron of it. Below 1 the overdamped drawing runs that many times faster towards the same
+    // settled end state (docs/jam.md, "The closed period").
+    double magnetise_viscosity_share = 1.0;
     double max_time = 3e-3;         // s, judged period (pressure on, or field on open first), unless arrest comes first
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long
     double arrest_fraction = 0.05;  // arrest: flux below this fraction of the no-field flux

@@ -27,10 +27,11 @@ void DragTerm::begin_pass(const System& s) {
 void DragTerm::add_per_grain(const System& s, Vec3* f, std::size_t begin, std::size_t end) {
     const Particles& p = s.particles;
     FlowField::Drag* held = held_.data();
+    const double mu = viscosity();
     for (std::size_t i = begin; i < end; ++i) {
         const FlowField::Drag fluid = lookup_ == Lookup::held ? held[i] : s.flow->drag_at(p.position[i], s.time);
         if (lookup_ == Lookup::fresh_and_hold) held[i] = fluid;
-        f[i] -= (p.velocity[i] - fluid.velocity) * (6.0 * M_PI * viscosity_ * p.radius[i] * fluid.factor);
+        f[i] -= (p.velocity[i] - fluid.velocity) * (6.0 * M_PI * mu * p.radius[i] * fluid.factor);
     }
 }
 

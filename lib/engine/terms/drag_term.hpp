@@ -27,7 +27,11 @@ public:
     void grains_removed(System&, const std::vector<std::int64_t>& index, std::size_t kept) override;
     void summarise(const System&, nlohmann::json& summary) const override;
 
-    double viscosity() const { return viscosity_; }
+    double viscosity() const { return viscosity_ * share_; }
+    // A protocol may run the carrier at a share of its viscosity for a while (the jam mode's
+    // fast-forwarded closed period); the scene's viscosity stays the reference.
+    void set_viscosity_share(double share) { share_ = share; }
+    double viscosity_share() const { return share_; }
     const HoldSchedule& lookups() const { return hold_; }
     // The flow at each grain from the last lookup (empty when none is held).
     const std::vector<FlowField::Drag>& held_lookups() const { return held_; }
@@ -35,6 +39,7 @@ public:
 private:
     enum class Lookup { fresh, fresh_and_hold, held };
     double viscosity_;
+    double share_ = 1.0;
     HoldSchedule hold_;
     std::vector<FlowField::Drag> held_;
     Lookup lookup_ = Lookup::fresh;
