@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/hertz_mindlin.hpp"
 #include "contact/material.hpp"
 #include "contact/restitution.hpp"
 #include "forces.hpp"
@@ -309,6 +310,35 @@ Settled settle(System& s, double m_star, double sn_at_eq, const std::function<do
 }
 
 }  // namespace
+
+TEST_SUITE("unit") {
+    // A sliding, deeply overlapping pair of unequal grains, spinning: the contact's forces and
+    // torques about any point sum to zero (x_i x F + x_j x (-F) + tau_i + tau_j = d x F + tau_i +
+    // tau_j), which holds when the lever arms add up to the separation. With the full radii as
+    // arms the imbalance would be overlap x |F_t|: 10 % of the radius here.
+    TEST_CASE("contact: a grain pair's forces and torques carry no net torque, however deep the overlap") {
+        PairCoefficients c;
+        c.effective_youngs = 1e6;
+        c.effective_shear = 4e5;
+        c.tangential_to_normal_root = std::sqrt(4 * c.effective_shear / c.effective_youngs);
+        c.damping_beta = 0.3;
+        c.friction = 0.5;
+        const double ri = 1.0, rj = 0.6, overlap = 0.16;
+        const Vec3 d = Vec3{1.0, 2.0, 2.0} * ((ri + rj - overlap) / 3.0);  // x_i - x_j
+        const Vec3 xi{5, -3, 7}, xj = xi - d;
+        ContactInput in = grain_pair_input(d, norm2(d), ri, rj, 2.0, 0.5, {0.3, -0.2, 0.1}, {0, 0, 4}, {1, -2, 0});
+        ContactHistory history;
+        ContactOutput out;
+        for (int step = 0; step < 3; ++step)  // builds a tangential spring, then slides on the cone
+            hertz_mindlin<RollingModel::none, CohesionModel::none>(c, in, history, 1e-3, out);
+        const Vec3 ft = out.force_on_i - in.normal * dot(out.force_on_i, in.normal);
+        REQUIRE(norm(ft) > 1e-3 * norm(out.force_on_i));  // the tangential force is there
+        const Vec3 net = cross(xi, out.force_on_i) + cross(xj, -out.force_on_i) + out.torque_on_i + out.torque_on_j;
+        const double scale = (ri + rj) * norm(out.force_on_i);
+        CHECK(norm(net) < 1e-12 * scale);
+        CHECK(in.arm_i + in.arm_j == doctest::Approx(norm(d)).epsilon(1e-14));
+    }
+}
 
 TEST_SUITE("physics") {
     // ---- 1. Head-on grain-grain collisions ------------------------------------------------------

@@ -150,6 +150,8 @@ template <RollingModel Rolling, CohesionModel Cohesion>
             in.distance = ri - overlap;
             in.radius_i = ri;
             in.radius_j = 0;
+            in.arm_i = ri;  // the wall takes what its contacts carry: no balance to keep
+            in.arm_j = 0;
             in.reduced_radius = ri;
             in.reduced_mass = p.mass[i];
             in.rolling_inertia = p.rolling_inertia(i);

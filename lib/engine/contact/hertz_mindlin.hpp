@@ -31,6 +31,7 @@ struct ContactInput {
     double overlap;             // d = R_i + R_j - |x_i - x_j| > 0
     double distance;            // |x_i - x_j|; for a wall, R_i - d
     double radius_i, radius_j;  // radius_j unused for a wall
+    double arm_i, arm_j;        // centre to contact point (arm_j unused for a wall)
     double reduced_radius;      // R* (R_i for a wall)
     double reduced_mass;        // m* (m_i for a wall)
     double rolling_inertia;     // EPSD I_r (Ai et al. eq. 16)
@@ -54,7 +55,13 @@ inline ContactInput grain_pair_input(const Vec3& d, double r2, double ri, double
     in.reduced_radius = ri * rj / rsum;
     in.reduced_mass = mi * mj / (mi + mj);
     in.rolling_inertia = 0;
-    in.contact_velocity = dv - cross(wi * ri + wj * rj, in.normal);
+    // The contact point sits (R - overlap / 2) from each centre, so the two lever arms add up to
+    // the separation and a tangential force pair conserves the angular momentum exactly (full
+    // radii, the classic LAMMPS/LIGGGHTS arms, leave overlap x F_t per contact: a soft, deforming
+    // rubble pile drifted by 7 % over a spin-up).
+    in.arm_i = ri - 0.5 * in.overlap;
+    in.arm_j = rj - 0.5 * in.overlap;
+    in.contact_velocity = dv - cross(wi * in.arm_i + wj * in.arm_j, in.normal);
     in.relative_spin = wi - wj;
     in.wall = false;
     return in;
@@ -128,8 +135,8 @@ inline void hertz_mindlin(const PairCoefficients& c, const ContactInput& in, Con
     out.normal_force = fn;
     // Torque from the tangential force, applied at the contact point of each sphere.
     const Vec3 nxft = cross(n, ft);
-    out.torque_on_i = nxft * (-in.radius_i);
-    out.torque_on_j = nxft * (-in.radius_j);
+    out.torque_on_i = nxft * (-in.arm_i);
+    out.torque_on_j = nxft * (-in.arm_j);
 
     if constexpr (Rolling == RollingModel::epsd) {
         // Ai et al. 2011, model C: spring torque k_r dtheta capped at mu_r R* |F_n|; viscous
