@@ -3,6 +3,7 @@
 // scene's refusals (no field given, a cell too narrow for the dipoles, a gate outside the cell).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -60,6 +61,25 @@ TEST_SUITE("unit") {
         // Volume: 0.4 x 0.5 plus the triangle 0.5 x 0.5 / tan35 / 2, times the width 0.1, within a bin.
         CHECK(h.volume == rel(0.1 * (0.2 + 0.125 / tan35)).epsilon(0.02));
         CHECK(h.runout == rel(toe - 0.3).epsilon(0.01));
+    }
+
+    TEST_CASE("heap profile: a chain standing on the plateau or lying ahead of it does not move the fit") {
+        static const double tan35 = std::tan(35.0 * M_PI / 180.0);
+        const auto z = [](double x) { return x < 0.4 ? 0.5 : std::max(0.0, 0.5 - (x - 0.4) * tan35); };
+        Particles p = surface_grains(0.002, 0.4 + 0.5 / tan35, z);
+        const std::size_t n = p.size();
+        p.resize(n + 2);
+        p.position[n] = {0.105, 0.0, 0.7};    // an upright chain's top, 0.2 m above the plateau
+        p.position[n + 1] = {1.3, 0.0, 0.3};  // a chain ahead of the toe
+        for (std::size_t i = n; i < n + 2; ++i) {
+            p.radius[i] = 0.002;
+            p.mass[i] = 1;
+        }
+        const HeapProfile h = measure_heap(p, 2.0, 0.1, 0.3, 0.01);
+        CHECK(h.peak == rel(0.5).epsilon(1e-9));
+        CHECK(std::fabs(h.slope.angle_deg - 35.0) < 0.2);
+        // The bins' raw tops keep both.
+        CHECK(*std::max_element(h.top.begin(), h.top.end()) == rel(0.702).epsilon(1e-9));
     }
 
     TEST_CASE("heap profile: a slope steep on top and shallow below is fitted as two halves") {

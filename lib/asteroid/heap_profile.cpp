@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace mrjam {
 
@@ -40,6 +41,12 @@ HeapProfile measure_heap(const Particles& p, double length, double width, double
         front = std::max(front, x + p.radius[i]);
     }
     for (std::size_t k = 0; k < bins; ++k) h.x.push_back((k + 0.5) * bin);
+    h.top = h.height;
+    for (std::size_t k = 0; k < bins; ++k) {
+        double w[3] = {h.top[k > 0 ? k - 1 : k], h.top[k], h.top[k + 1 < bins ? k + 1 : k]};
+        std::sort(w, w + 3);
+        h.height[k] = w[1];
+    }
     h.peak = *std::max_element(h.height.begin(), h.height.end());
     for (double z : h.height) h.volume += z * bin * width;
     h.runout = std::max(0.0, front - gate);
@@ -75,7 +82,8 @@ nlohmann::json to_json(const HeapProfile& h) {
             {"heap_volume_m3", h.volume},
             {"runout_m", h.runout},
             {"x_m", h.x},
-            {"surface_height_m", h.height}};
+            {"surface_height_m", h.height},
+            {"surface_top_m", h.top}};
 }
 
 }  // namespace mrjam

@@ -20,13 +20,17 @@ struct SlopeFit {
 struct HeapProfile {
     double bin = 0;                 // m
     std::vector<double> x, height;  // bin centres from the back wall; surface height there (m)
+    std::vector<double> top;        // the highest grain's top per bin, before the running median
     double peak = 0;                // m
     SlopeFit slope, upper, lower;   // 10-90 %, 50-90 %, 10-50 % of the peak, downhill of it
     double volume = 0;              // m3 under the surface (bulk, pores included)
     double runout = 0;              // m, the farthest grain's front beyond the gate
 };
 
-// Surface height per bin: the top of the highest grain whose centre falls in it.
+// Surface height per bin: the top of the highest grain whose centre falls in it, then a running
+// median over three bins, so that a single magnetised chain standing on the heap (or lying ahead
+// of it) is not taken for the surface: with the raw tops one upright chain on a plateau set the
+// peak and moved the fitted slope onto the plateau (5 mT: 13 degrees for a face of about 30).
 HeapProfile measure_heap(const Particles& p, double length, double width, double gate, double bin);
 
 // A least-squares line through the points; fewer than 3 points leave points < 3 and no fit.
