@@ -28,20 +28,24 @@ void read_material(SceneNode node, AvalancheSpec& s) {
     node.finish();
 }
 
-// The cell in diameters. The source's were 300 x 80 x 400 diameters for its 5 mm grains; the
-// tiers keep its shape, a column behind a gate at a fifth of the length, in a smaller cell
-// (quick: about 4,900 grains; standard and paper: about 22,000).
+// The cell in diameters. The source's was 300 x 80 x 400 diameters for its 5 mm grains, holding
+// about 500,000 grains: packed, they fill the cell's floor 18 diameters deep, or 36 behind a gate
+// at half the length (the gate's place is not printed). So the tiers default to a wide, low
+// column (height / width about 0.24) behind a gate at half the length: such a column fails by
+// its face sliding, which is what an angle of repose measures, where a tall one collapses and
+// spreads below it (a column of aspect 2.4 here: 16 degrees, against 22 for 0.24 at 0 mT;
+// docs/asteroid.md). Quick: about 4,600 grains; standard and paper: about 20,600.
 void read_cell(SceneNode node, AvalancheSpec& s, const std::string& fidelity) {
     const bool quick = fidelity == "quick";
-    s.length = node.number("length", quick ? 80 : 120, Bounds::closed(10, 5000));
+    s.length = node.number("length", quick ? 100 : 150, Bounds::closed(10, 5000));
     s.width = node.number("width", quick ? 8 : 16, Bounds::closed(2, 1000));
     // The periodic width must hold the dipoles' reach (3 diameters and the skin) twice over.
     if (s.field > 0 && s.width < 7)
         node.fail("width", "is narrower than twice the dipoles' cutoff of 3 diameters; give at least 7");
-    s.height = node.number("height", quick ? 50 : 80, Bounds::closed(5, 5000));
-    s.gate = node.number("gate", quick ? 16 : 24, Bounds::open(0, s.length));
+    s.height = node.number("height", quick ? 30 : 45, Bounds::closed(5, 5000));
+    s.gate = node.number("gate", quick ? 50 : 75, Bounds::open(0, s.length));
     if (s.gate < 2) node.fail("gate", "leaves no room behind it for a grain; give at least 2 diameters");
-    s.fill_height = node.number("fill_height", quick ? 40 : 60, Bounds::closed(2, s.height));
+    s.fill_height = node.number("fill_height", quick ? 12 : 18, Bounds::closed(2, s.height));
     s.fill_fraction = node.number("fill_fraction", 0.5, Bounds::closed(0.05, 0.6));
     const double grains = s.gate * s.width * s.fill_height * s.fill_fraction / (M_PI / 6.0);
     if (grains > 2e6) node.fail("gate", "asks for " + std::to_string(long(grains)) + " grains; at most 2,000,000");

@@ -32,8 +32,8 @@ struct AvalancheSpec {
     double checkpoint_every_seconds = 600;
 };
 
-// Reads and checks the scene at a tier (the cell's defaults: quick 80 x 8 x 50 diameters with a
-// column 16 x 40 behind the gate, standard and paper 120 x 16 x 80 with 24 x 60);
+// Reads and checks the scene at a tier (the cell's defaults: quick 100 x 8 x 30 diameters with a
+// column 50 wide and 12 high behind the gate, standard and paper 150 x 16 x 45 with 75 x 18);
 // throws SceneError naming the key.
 AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string& fidelity);
 
