@@ -153,12 +153,10 @@ private:
         // A finite batch's outlet takes out the grains past it; the observer has counted their
         // crossing already (the outlet is past the throat, so none is lost).
         if (outlet_) run.modifiers.push_back({"batch_outlet", [this](System& sys, std::size_t) { drain(sys); }});
-        if (coupled_ || valve_flow_)
-            run.modifiers.push_back(
-                {"carrier_flow", [this](System& sys, std::size_t stage) { update_flow(sys, stage); }});
         // The fast-forwarded closed period: the carrier at its share of the viscosity while the
         // grains are magnetised at rest, at its own from the pressure on (a resumed run sets it
-        // again at its first observation).
+        // again at its first observation). Before the carrier flow's update, which reads the
+        // viscosity: the first update under pressure must see the carrier's own.
         if (p_.magnetise_viscosity_share < 1)
             run.modifiers.push_back({"closed_period_viscosity", [this](System& sys, std::size_t stage) {
                                          if (DragTerm* drag = sys.terms.find<DragTerm>())
@@ -166,6 +164,9 @@ private:
                                                                            ? p_.magnetise_viscosity_share
                                                                            : 1.0);
                                      }});
+        if (coupled_ || valve_flow_)
+            run.modifiers.push_back(
+                {"carrier_flow", [this](System& sys, std::size_t stage) { update_flow(sys, stage); }});
     }
 
     void drain(System& sys) {
