@@ -57,8 +57,7 @@ inline ContactInput grain_pair_input(const Vec3& d, double r2, double ri, double
     in.rolling_inertia = 0;
     // The contact point sits (R - overlap / 2) from each centre, so the two lever arms add up to
     // the separation and a tangential force pair conserves the angular momentum exactly (full
-    // radii, the classic LAMMPS/LIGGGHTS arms, leave overlap x F_t per contact: a soft, deforming
-    // rubble pile drifted by 7 % over a spin-up).
+    // radii, the classic LAMMPS/LIGGGHTS arms, leave overlap x F_t per contact).
     in.arm_i = ri - 0.5 * in.overlap;
     in.arm_j = rj - 0.5 * in.overlap;
     in.contact_velocity = dv - cross(wi * in.arm_i + wj * in.arm_j, in.normal);
