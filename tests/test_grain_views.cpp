@@ -70,7 +70,7 @@ TEST_SUITE("unit") {
         // Drawn at their radius: 2 m (+ radius, + 5 %) fills half a panel of 420 px.
         CHECK(d[0].r == doctest::Approx(0.5 * 210 / (2.5 * 1.05)).epsilon(1e-3));
         // The title escaped, the colour bar labelled in metres, a scale bar in metres.
-        CHECK(svg.find("a &lt;test> &amp; body") != std::string::npos);
+        CHECK(svg.find("a &lt;test&gt; &amp; body") != std::string::npos);
         CHECK(svg.find("distance from the centre of mass (m)") != std::string::npos);
         CHECK(svg.find(">1 m</text>") != std::string::npos);  // 0.4 x 2.625 m rounds down to 1 m
     }

@@ -9,6 +9,7 @@
 #include "jam/axial_resistance.hpp"
 #include "jam/closed_flow.hpp"
 #include "jam/jam_outcome.hpp"
+#include "jam/jam_protocol_steps.hpp"
 #include "jam/jam_results.hpp"
 #include "jam/jam_run.hpp"
 #include "jam/jam_scene.hpp"
@@ -1269,3 +1270,17 @@ TEST_SUITE("cli") {
     }
 
 }  // TEST_SUITE
+
+TEST_CASE("jam: the closed period's viscosity share applies to the magnetisation at rest alone") {
+    mrjam::JamProtocol p;
+    p.order = mrjam::JamOrder::closed_first;
+    p.magnetise_viscosity_share = 0.01;
+    // Stages: the no-field reference, the magnetisation at rest, the pressure, the release.
+    CHECK(mrjam::carrier_viscosity_share(p, 0) == 1.0);
+    CHECK(mrjam::carrier_viscosity_share(p, 1) == 0.01);
+    CHECK(mrjam::carrier_viscosity_share(p, 2) == 1.0);
+    CHECK(mrjam::carrier_viscosity_share(p, 3) == 1.0);
+    // Open first has no closed period: the carrier keeps its own viscosity throughout.
+    p.order = mrjam::JamOrder::open_first;
+    for (std::size_t stage = 0; stage < 3; ++stage) CHECK(mrjam::carrier_viscosity_share(p, stage) == 1.0);
+}

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "io/png_image.hpp"
+#include "io/svg_plot.hpp"
 
 namespace mrjam {
 namespace {
@@ -116,10 +117,7 @@ void write_grain_views(const std::string& path, const GrainViews& g) {
     std::ostringstream svg;
     svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
         << "' font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n";
-    std::string title;
-    for (char c : g.title)
-        title += c == '<' ? std::string("&lt;") : c == '&' ? std::string("&amp;") : std::string(1, c);
-    svg << "<text x='" << kMargin << "' y='28' font-size='16'>" << title << "</text>\n";
+    svg << "<text x='" << kMargin << "' y='28' font-size='16'>" << svg_escape(g.title) << "</text>\n";
     svg << "<text x='" << kMargin << "' y='48' font-size='12' fill='#555'>" << g.position.size()
         << " grains; each drawn at its radius, nearer grains over farther ones</text>\n";
     draw_panel(svg, g, along, half, reach);

@@ -9,9 +9,8 @@
 #include <stdexcept>
 
 namespace mrjam {
-namespace {
 
-std::string escape(const std::string& s) {
+std::string svg_escape(const std::string& s) {
     std::string out;
     for (char c : s) {
         if (c == '<')
@@ -25,6 +24,8 @@ std::string escape(const std::string& s) {
     }
     return out;
 }
+
+namespace {
 
 // "Nice" tick spacing: 1, 2 or 5 times a power of ten, about five ticks over the range.
 double tick_step(double span) {
@@ -105,7 +106,7 @@ void write_svg(const std::string& path, const Plot& plot) {
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    o << "<text x=\"" << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.title)
+    o << "<text x=\"" << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">" << svg_escape(plot.title)
       << "</text>\n";
     for (double x = xa.lo; x <= xa.hi + 1e-9 * xa.step; x += xa.step) {
         o << "<line x1=\"" << XT(x) << "\" y1=\"" << top << "\" x2=\"" << XT(x) << "\" y2=\"" << top + ph
@@ -121,10 +122,10 @@ void write_svg(const std::string& path, const Plot& plot) {
     }
     o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"none\" stroke=\"black\"/>\n";
-    o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 15 << "\" text-anchor=\"middle\">" << escape(plot.x_label)
-      << "</text>\n";
+    o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 15 << "\" text-anchor=\"middle\">"
+      << svg_escape(plot.x_label) << "</text>\n";
     o << "<text transform=\"translate(20," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
-      << escape(plot.y_label) << "</text>\n";
+      << svg_escape(plot.y_label) << "</text>\n";
     double ly = top + 10;
     for (const auto& s : plot.series) {
         const char* dash = s.dashed ? "\" stroke-dasharray=\"6,4" : "";
@@ -150,7 +151,7 @@ void write_svg(const std::string& path, const Plot& plot) {
         else
             o << "<circle cx=\"" << lx + 10 << "\" cy=\"" << ly << "\" r=\"4\" fill=\""
               << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";
-        o << "<text x=\"" << lx + 26 << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
+        o << "<text x=\"" << lx + 26 << "\" y=\"" << ly + 4 << "\">" << svg_escape(s.label) << "</text>\n";
         ly += 20;
     }
     o << "</svg>\n";

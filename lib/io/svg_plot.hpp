@@ -23,6 +23,9 @@ struct Plot {
     bool log_x = false, log_y = false;
 };
 
+// Text made safe inside an SVG element: <, > and & as entities.
+std::string svg_escape(const std::string& s);
+
 // Writes the plot as an SVG file; throws std::runtime_error if it cannot be written.
 void write_svg(const std::string& path, const Plot& plot);
 

@@ -30,6 +30,10 @@ JamPhase jam_phase(const JamProtocol& p, std::size_t stage) {
     return stage == 1 ? JamPhase::judged : JamPhase::release;
 }
 
+double carrier_viscosity_share(const JamProtocol& p, std::size_t stage) {
+    return jam_phase(p, stage) == JamPhase::magnetise ? p.magnetise_viscosity_share : 1.0;
+}
+
 std::optional<std::pair<double, double>> last_settle_change(const JamProtocolState& st) {
     const std::size_t n = st.settle_history.size();
     if (n < 2) return std::nullopt;

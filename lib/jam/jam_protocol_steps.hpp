@@ -33,6 +33,10 @@ enum class JamPhase { reference, magnetise, judged, release };
 
 JamPhase jam_phase(const JamProtocol& p, std::size_t stage);
 
+// The carrier's viscosity in a stage, as a share of its own: protocol/magnetise_viscosity_share
+// while the grains are magnetised at rest (the fast-forwarded closed period), 1 otherwise.
+double carrier_viscosity_share(const JamProtocol& p, std::size_t stage);
+
 // The relative change of the mean contact number and of the magnetic energy over the last settle
 // window; none before two checks.
 std::optional<std::pair<double, double>> last_settle_change(const JamProtocolState& st);

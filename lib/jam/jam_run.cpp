@@ -107,6 +107,7 @@ public:
             outlet_.emplace(s, js.valve.downstream_length, js.valve.throat_end_z(), js.largest_diameter);
         if (!options.snapshot_directory.empty())
             snapshots_ = JamSnapshots(options.snapshot_directory, options.snapshot_every, seed);
+        if (p_.magnetise_viscosity_share < 1) set_closed_period_viscosity();
     }
 
     JamOutcome run() {
@@ -153,20 +154,24 @@ private:
         // A finite batch's outlet takes out the grains past it; the observer has counted their
         // crossing already (the outlet is past the throat, so none is lost).
         if (outlet_) run.modifiers.push_back({"batch_outlet", [this](System& sys, std::size_t) { drain(sys); }});
-        // The fast-forwarded closed period: the carrier at its share of the viscosity while the
-        // grains are magnetised at rest, at its own from the pressure on (a resumed run sets it
-        // again at its first observation). Before the carrier flow's update, which reads the
-        // viscosity: the first update under pressure must see the carrier's own.
-        if (p_.magnetise_viscosity_share < 1)
-            run.modifiers.push_back({"closed_period_viscosity", [this](System& sys, std::size_t stage) {
-                                         if (DragTerm* drag = sys.terms.find<DragTerm>())
-                                             drag->set_viscosity_share(jam_phase(p_, stage) == JamPhase::magnetise
-                                                                           ? p_.magnetise_viscosity_share
-                                                                           : 1.0);
-                                     }});
         if (coupled_ || valve_flow_)
             run.modifiers.push_back(
                 {"carrier_flow", [this](System& sys, std::size_t stage) { update_flow(sys, stage); }});
+    }
+
+    // The fast-forwarded closed period: the carrier at its share of the viscosity while the
+    // grains are magnetised at rest, at its own in every other stage. Set as each stage starts
+    // (also when a run resumes mid-stage), so the stage's first step and the carrier flow's first
+    // update under pressure see the right viscosity.
+    void set_closed_period_viscosity() {
+        for (std::size_t k = 0; k < scene_.stages.size(); ++k) {
+            Stage& stage = scene_.stages[k];
+            const double share = carrier_viscosity_share(p_, k);
+            stage.on_start = [share, before = std::move(stage.on_start)](System& sys, bool fresh) {
+                if (before) before(sys, fresh);
+                if (DragTerm* drag = sys.terms.find<DragTerm>()) drag->set_viscosity_share(share);
+            };
+        }
     }
 
     void drain(System& sys) {
