@@ -1,5 +1,7 @@
 #include "io/png_image.hpp"
 
+#include <png.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -10,89 +12,6 @@ namespace mrjam {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
-
-// CRC-32 as PNG and zlib's crc32 define it (reflected polynomial 0xEDB88320, initial and final
-// XOR 0xFFFFFFFF; PNG spec sec. 5.5 / annex D), byte-wise with a table built on first use.
-std::uint32_t crc32(const std::uint8_t* data, std::size_t size, std::uint32_t crc = 0) {
-    static const auto table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t n = 0; n < 256; ++n) {
-            std::uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    crc = ~crc;
-    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
-    return ~crc;
-}
-
-// Adler-32 (RFC 1950 sec. 8.2). Reducing modulo 65521 every 5552 bytes is the largest block for
-// which the sums cannot overflow 32 bits (zlib's NMAX).
-std::uint32_t adler32(const Bytes& data) {
-    constexpr std::uint32_t kMod = 65521;
-    std::uint32_t a = 1, b = 0;
-    for (std::size_t i = 0; i < data.size();) {
-        const std::size_t end = std::min(data.size(), i + 5552);
-        for (; i < end; ++i) {
-            a += data[i];
-            b += a;
-        }
-        a %= kMod;
-        b %= kMod;
-    }
-    return (b << 16) | a;
-}
-
-void put_u32_be(Bytes& out, std::uint32_t v) {
-    for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
-}
-
-// length, type, data, CRC over type + data (PNG spec sec. 5.3).
-void put_chunk(Bytes& out, const char (&type)[5], const Bytes& data) {
-    put_u32_be(out, static_cast<std::uint32_t>(data.size()));
-    const std::size_t crc_start = out.size();
-    out.insert(out.end(), type, type + 4);
-    out.insert(out.end(), data.begin(), data.end());
-    put_u32_be(out, crc32(out.data() + crc_start, out.size() - crc_start));
-}
-
-// Each row prefixed by its filter type byte, 0 (None): the data the zlib stream carries.
-Bytes filtered_scanlines(const RgbImage& image) {
-    const std::size_t row = 3 * static_cast<std::size_t>(image.width);
-    Bytes out;
-    out.reserve((row + 1) * static_cast<std::size_t>(image.height));
-    for (int y = 0; y < image.height; ++y) {
-        out.push_back(0);
-        const auto first = image.rgb.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y));
-        out.insert(out.end(), first, first + static_cast<std::ptrdiff_t>(row));
-    }
-    return out;
-}
-
-// zlib stream (RFC 1950) of stored deflate blocks (RFC 1951 sec. 3.2.4): header 0x78 0x01
-// (deflate, 32 KiB window, no dictionary; 0x7801 is a multiple of 31 as FCHECK requires), then
-// blocks of at most 65535 bytes, each: 1 byte BFINAL/BTYPE=00, LEN and ~LEN little-endian, the
-// bytes; then the Adler-32 of the uncompressed data, big-endian.
-Bytes zlib_stored(const Bytes& data) {
-    constexpr std::size_t kMaxBlock = 65535;
-    Bytes out{0x78, 0x01};
-    std::size_t pos = 0;
-    do {  // an empty input still needs one (final, empty) block
-        const std::size_t len = std::min(kMaxBlock, data.size() - pos);
-        const bool final = pos + len == data.size();
-        out.push_back(final ? 1 : 0);
-        const auto len16 = static_cast<std::uint16_t>(len), nlen16 = static_cast<std::uint16_t>(~len16);
-        out.insert(out.end(), {static_cast<std::uint8_t>(len16 & 0xFF), static_cast<std::uint8_t>(len16 >> 8),
-                               static_cast<std::uint8_t>(nlen16 & 0xFF), static_cast<std::uint8_t>(nlen16 >> 8)});
-        out.insert(out.end(), data.begin() + static_cast<std::ptrdiff_t>(pos),
-                   data.begin() + static_cast<std::ptrdiff_t>(pos + len));
-        pos += len;
-    } while (pos < data.size());
-    put_u32_be(out, adler32(data));
-    return out;
-}
 
 void check_image(const RgbImage& image) {
     if (image.width <= 0 || image.height <= 0)
@@ -144,14 +63,19 @@ std::array<std::uint8_t, 3> RgbImage::get(int x, int y) const {
 
 std::vector<std::uint8_t> encode_png(const RgbImage& image) {
     check_image(image);
-    Bytes out{0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};  // signature (PNG spec sec. 5.2)
-    Bytes ihdr;
-    put_u32_be(ihdr, static_cast<std::uint32_t>(image.width));
-    put_u32_be(ihdr, static_cast<std::uint32_t>(image.height));
-    ihdr.insert(ihdr.end(), {8, 2, 0, 0, 0});  // bit depth 8, colour type 2 (RGB), deflate, filter 0, no interlace
-    put_chunk(out, "IHDR", ihdr);
-    put_chunk(out, "IDAT", zlib_stored(filtered_scanlines(image)));
-    put_chunk(out, "IEND", {});
+    png_image png{};
+    png.version = PNG_IMAGE_VERSION;
+    png.width = static_cast<png_uint_32>(image.width);
+    png.height = static_cast<png_uint_32>(image.height);
+    png.format = PNG_FORMAT_RGB;
+    // Two passes, as libpng's simplified API asks: the size first, then the bytes.
+    png_alloc_size_t size = 0;
+    if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.rgb.data(), 0, nullptr))
+        throw std::runtime_error(std::string("libpng could not encode the image: ") + png.message);
+    Bytes out(size);
+    if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgb.data(), 0, nullptr))
+        throw std::runtime_error(std::string("libpng could not encode the image: ") + png.message);
+    out.resize(size);
     return out;
 }
 

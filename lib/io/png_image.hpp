@@ -1,8 +1,6 @@
 #pragma once
-// A dependency-free PNG writer and a colour-map renderer for scalar fields on a grid, so field
-// maps can be written without libpng or zlib. The image is 8-bit RGB, filter 0 on every row, in
-// a zlib stream of stored (uncompressed) deflate blocks: larger files than a real compressor
-// would make, but trivially correct (PNG spec, W3C 2003; zlib RFC 1950; deflate RFC 1951).
+// 8-bit RGB images written as PNG through libpng's simplified API, and a colour-map renderer for
+// scalar fields on a grid.
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -24,7 +22,8 @@ struct RgbImage {
 };
 
 // Writes `image` as a PNG; throws std::runtime_error naming `path` if it cannot be written and
-// std::invalid_argument if the image is empty or its pixel buffer has the wrong size.
+// std::invalid_argument if the image is empty or its pixel buffer has the wrong size (or
+// std::runtime_error with libpng's message if it fails).
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
 // The PNG file contents, as write_png writes them (exposed for tests and in-memory use).
