@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/exit_status.hpp"
-#include "jam/proportion_interval.hpp"
+#include "core/proportion_interval.hpp"
 
 namespace mrjam::cli {
 

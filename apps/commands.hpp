@@ -10,5 +10,6 @@ void add_jam_command(CLI::App& app, int& exit_status);        // apps/command_ja
 void add_design_command(CLI::App& app, int& exit_status);     // apps/command_design.cpp
 void add_shear_command(CLI::App& app, int& exit_status);      // apps/command_shear.cpp, lib/shear/
 void add_asteroid_command(CLI::App& app, int& exit_status);   // apps/command_asteroid.cpp, lib/asteroid/
+void add_sweep_command(CLI::App& app, int& exit_status);      // apps/command_sweep.cpp, lib/sweep/
 
 }  // namespace mrjam::cli

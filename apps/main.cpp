@@ -16,5 +16,6 @@ int main(int argc, char** argv) {
     mrjam::cli::add_jam_command(app, exit_status);
     mrjam::cli::add_design_command(app, exit_status);
     mrjam::cli::add_asteroid_command(app, exit_status);
+    mrjam::cli::add_sweep_command(app, exit_status);
     return mrjam::cli::run_cli(app, argc, argv, exit_status);
 }

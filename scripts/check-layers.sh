@@ -31,4 +31,5 @@ forbid lib/shear jam asteroid magnetics design
 forbid lib/asteroid jam shear magnetics design
 forbid magnetics jam shear asteroid design
 forbid design shear asteroid
+forbid lib/sweep jam shear asteroid magnetics design
 exit $status

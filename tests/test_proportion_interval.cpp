@@ -4,7 +4,7 @@
 #include <cmath>
 #include <initializer_list>
 
-#include "jam/proportion_interval.hpp"
+#include "core/proportion_interval.hpp"
 
 using namespace mrjam;
 

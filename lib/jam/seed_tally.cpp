@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "jam/proportion_interval.hpp"
+#include "core/proportion_interval.hpp"
 
 namespace mrjam {
 

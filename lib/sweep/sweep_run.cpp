@@ -1,0 +1,270 @@
+#include "sweep/sweep_run.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "run/interrupt.hpp"
+#include "scene/scene_node.hpp"
+#include "sweep/point_process.hpp"
+#include "sweep/sweep_spec.hpp"
+#include "sweep/sweep_table.hpp"
+
+namespace mrjam {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+json read_json_file(const fs::path& path) {
+    std::ifstream in(path);
+    if (!in) return json();
+    try {
+        return json::parse(in);
+    } catch (const json::parse_error&) {
+        return json();  // a file cut short by a kill: treated as absent
+    }
+}
+
+// A temporary name no other process (a shard on this or another machine) uses.
+fs::path temporary_for(const fs::path& path) {
+    char host[64] = "";
+    gethostname(host, sizeof host - 1);
+    return path.string() + ".tmp." + host + "." + std::to_string(getpid());
+}
+
+// Written whole or not at all: a kill mid-write leaves the previous file.
+void write_json_file(const fs::path& path, const json& value) {
+    const fs::path tmp = temporary_for(path);
+    {
+        std::ofstream out(tmp);
+        if (!out) throw std::runtime_error("cannot write " + tmp.string());
+        out << value.dump(1) << "\n";
+        if (!out) throw std::runtime_error("failed writing " + tmp.string());
+    }
+    fs::rename(tmp, path);
+}
+
+void write_text_file(const fs::path& path, const std::string& text) {
+    const fs::path tmp = temporary_for(path);
+    {
+        std::ofstream out(tmp);
+        out << text;
+        if (!out) throw std::runtime_error("failed writing " + tmp.string());
+    }
+    fs::rename(tmp, path);
+}
+
+std::string folder_name(std::size_t n) {
+    char b[16];
+    std::snprintf(b, sizeof b, "p%04zu", n);
+    return b;
+}
+
+// The paths at which two sweep files differ, for the refusal's message.
+std::string differences(const json& before, const json& now) {
+    std::string out;
+    std::set<std::string> seen;
+    for (const json& op : json::diff(before, now)) {
+        const std::string path = op["path"].get<std::string>();
+        if (seen.insert(path).second) out += (out.empty() ? "" : ", ") + (path.empty() ? std::string("/") : path);
+        if (seen.size() == 8) return out + ", ...";
+    }
+    return out;
+}
+
+// DIR/sweep.json: the sweep file and each point's folder, so folders keep their points when
+// --extend adds new ones. Returns the registry's points, in folder order.
+json open_registry(const SweepOptions& o, const SweepSpec& spec, const std::vector<SweepPoint>& points) {
+    const fs::path dir(o.out_dir), file = dir / "sweep.json";
+    json registry = read_json_file(file);
+    if (registry.is_null()) {
+        std::error_code ec;
+        if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
+            throw SceneError("--out", o.out_dir + " holds files that are not a sweep's: choose a new or empty folder");
+        if (o.collect) throw SceneError("--out", o.out_dir + " holds no sweep to collect");
+        registry = {{"sweep", spec.source}, {"points", json::array()}};
+    } else if (registry["sweep"] != spec.source) {
+        if (!o.extend)
+            throw SceneError("--out", o.out_dir + " was written by another sweep file (it differs at " +
+                                          differences(registry["sweep"], spec.source) +
+                                          "): use a new folder, or --extend to add only new points");
+        for (const char* k : {"mode", "args", "scene"})
+            if (registry["sweep"].value(k, json()) != spec.source.value(k, json()))
+                throw SceneError(std::string("/") + k,
+                                 "differs from the sweep in " + o.out_dir +
+                                     ": --extend adds points, it does not change the scene or the mode");
+        registry["sweep"] = spec.source;
+    }
+    std::set<std::string> known;
+    for (const json& p : registry["points"]) known.insert(p["values"].dump());
+    for (const SweepPoint& p : points)
+        if (!known.count(p.values.dump()))
+            registry["points"].push_back({{"folder", folder_name(registry["points"].size())}, {"values", p.values}});
+    if (!o.collect) {
+        fs::create_directories(dir / "points");
+        write_json_file(file, registry);
+    }
+    return registry["points"];
+}
+
+// What a point's run is: fresh, or resumed from the checkpoint its mode left in out/.
+std::vector<std::string> point_command(const SweepSpec& spec, const SweepOptions& o, const fs::path& folder) {
+    const std::string mode = spec.command.front();
+    std::vector<std::string> args = spec.command;
+    fs::path checkpoint;
+    std::error_code ec;
+    if (mode != "design" && mode != "magnetics" && fs::is_directory(folder / "out", ec))
+        for (const auto& e : fs::directory_iterator(folder / "out"))
+            if (e.path().extension() == ".mrjam") checkpoint = e.path();
+    if (!checkpoint.empty()) {
+        args.insert(args.end(), {"--resume", checkpoint.string()});  // the run keeps its own settings
+    } else {
+        args.push_back((folder / "scene.json").string());
+        if (mode == "design" && fs::exists(folder / "out", ec)) args.push_back("--resume");
+        args.insert(args.end(), spec.args.begin(), spec.args.end());
+    }
+    args.insert(args.end(), {"--report", (folder / "report.json").string()});
+    if (mode != "magnetics") args.insert(args.end(), {"--threads", std::to_string(o.threads)});
+    return args;
+}
+
+std::string last_line(const fs::path& log) {
+    std::ifstream in(log);
+    std::string line, last;
+    while (std::getline(in, line))
+        if (!line.empty()) last = line;
+    return last;
+}
+
+std::string describe(const json& values) {
+    std::string out;
+    for (const auto& [k, v] : values.items())
+        out += (out.empty() ? "" : ", ") + k + "=" + (v.is_string() ? v.get<std::string>() : v.dump());
+    return out;
+}
+
+struct Tally {
+    std::size_t to_run = 0, ran = 0, failed = 0;
+    double wall = 0;
+};
+
+// Runs one point; false if the sweep was interrupted during it.
+bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, Tally& tally) {
+    const fs::path folder = fs::absolute(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>());
+    fs::create_directories(folder);
+    json state = read_json_file(folder / "state.json");
+    if (state.is_null()) state = {{"state", "pending"}, {"attempts", 0}};
+    SweepPoint point{0, entry["values"]};
+    if (!fs::exists(folder / "scene.json"))
+        write_json_file(folder / "scene.json", point_scene(spec, point, (folder / "out").string()));
+    state["state"] = "running";
+    state["attempts"] = state["attempts"].get<int>() + 1;
+    write_json_file(folder / "state.json", state);
+    const ProcessResult r =
+        run_point_process(own_executable(), point_command(spec, o, folder), (folder / "log.txt").string());
+    state["wall_s"] = state.value("wall_s", 0.0) + r.wall_seconds;
+    state["exit_status"] = r.exit_status;
+    state.erase("error");
+    if (r.interrupted) {
+        state["state"] = "pending";
+    } else if (r.exit_status == 0 && fs::exists(folder / "report.json")) {
+        state["state"] = "done";
+    } else {
+        state["state"] = "failed";
+        state["error"] = last_line(folder / "log.txt");
+    }
+    write_json_file(folder / "state.json", state);
+    if (r.interrupted) return false;
+    ++tally.ran;
+    tally.failed += state["state"] == "failed";
+    tally.wall += r.wall_seconds;
+    if (o.progress) {
+        const double left = tally.wall / static_cast<double>(tally.ran) * static_cast<double>(tally.to_run - tally.ran);
+        std::cerr << "[sweep] " << tally.ran << "/" << tally.to_run << " " << entry["folder"].get<std::string>() << " ("
+                  << describe(entry["values"]) << "): " << state["state"].get<std::string>() << " in "
+                  << static_cast<long>(r.wall_seconds) << " s";
+        if (tally.failed) std::cerr << "; " << tally.failed << " failed";
+        if (tally.ran < tally.to_run) std::cerr << "; about " << static_cast<long>(left / 60 + 0.5) << " min left";
+        std::cerr << "\n";
+    }
+    return true;
+}
+
+// DIR/manifest.json, table.json and table.csv from every point's folder.
+void write_results(const SweepSpec& spec, const SweepOptions& o, const json& registry_points) {
+    const fs::path dir(o.out_dir);
+    std::vector<SweepRow> rows;
+    json manifest{{"points", json::array()}};
+    std::set<std::string> current;
+    for (const SweepPoint& p : sweep_points(spec)) current.insert(p.values.dump());
+    for (const json& entry : registry_points) {
+        if (!current.count(entry["values"].dump())) continue;
+        const fs::path folder = dir / "points" / entry["folder"].get<std::string>();
+        json state = read_json_file(folder / "state.json");
+        if (state.is_null()) state = {{"state", "pending"}, {"attempts", 0}};
+        SweepRow row{SweepPoint{0, entry["values"]}, "points/" + entry["folder"].get<std::string>(),
+                     state["state"].get<std::string>(), json()};
+        if (row.state == "done") row.report = read_json_file(folder / "report.json");
+        rows.push_back(row);
+        json m = state;
+        m["folder"] = row.folder;
+        m["values"] = entry["values"];
+        manifest["points"].push_back(m);
+    }
+    const json table = sweep_table(spec, rows);
+    write_json_file(dir / "manifest.json", manifest);
+    write_json_file(dir / "table.json", table);
+    write_text_file(dir / "table.csv", sweep_table_csv(table));
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+    if (o.shards < 1 || o.shard < 0 || o.shard >= o.shards)
+        throw SceneError("--shard", "I/N with 0 <= I < N, e.g. 0/4 for the first of four shards");
+    const json file = read_json_file(o.sweep_path);
+    if (file.is_null()) throw SceneError(o.sweep_path, "cannot read it as JSON");
+    const SweepSpec spec = read_sweep(file, fs::absolute(o.sweep_path).parent_path().string());
+    const std::vector<SweepPoint> points = sweep_points(spec);
+    if (points.size() > kMostPointsUnasked && !o.yes && !o.collect)
+        throw SceneError("--yes", "the sweep has " + std::to_string(points.size()) + " points (more than " +
+                                      std::to_string(kMostPointsUnasked) + "): confirm with --yes");
+    const json registry_points = open_registry(o, spec, points);
+    install_interrupt_handler();
+    std::set<std::string> current;
+    for (const SweepPoint& p : points) current.insert(p.values.dump());
+    std::vector<const json*> mine;
+    for (std::size_t n = 0; n < registry_points.size(); ++n) {
+        const json& entry = registry_points[n];
+        const json state =
+            read_json_file(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>() / "state.json");
+        const bool done = !state.is_null() && state["state"] == "done";
+        if (!o.collect && !done && current.count(entry["values"].dump()) && static_cast<int>(n % o.shards) == o.shard)
+            mine.push_back(&entry);
+    }
+    Tally tally;
+    tally.to_run = mine.size();
+    if (o.progress && !o.collect)
+        std::cerr << "[sweep] " << points.size() << " points, " << points.size() - mine.size()
+                  << " done or in other shards; running " << mine.size() << "\n";
+    bool interrupted = false;
+    for (const json* entry : mine)
+        if (interrupt_requested() || !run_point(spec, o, *entry, tally)) {
+            interrupted = true;
+            break;
+        }
+    write_results(spec, o, registry_points);
+    if (interrupted) {
+        if (o.progress) std::cerr << "[sweep] interrupted: rerun the same command to continue\n";
+        return 130;
+    }
+    return tally.failed > 0 ? 1 : 0;
+}
+
+}  // namespace mrjam
