@@ -228,4 +228,68 @@ TEST_SUITE("cli") {
         CHECK(twice <= 1);
     }
 }
+
+#ifdef MRJAM_MPIRUN
+namespace {
+
+// `mpirun -np N mrjam sweep ...` (as root too, on more ranks than cores).
+std::string mpirun(int ranks) {
+    return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + mrjam_test::quote(MRJAM_MPIRUN) +
+           " --oversubscribe -np " + std::to_string(ranks) + " " + mrjam_test::quote(MRJAM_BINARY) + " sweep ";
+}
+
+// A point's report without what names its folder or times it.
+json comparable_report(const mrjam_test::TempDir& dir, const std::string& path) {
+    json r = json::parse(mrjam_test::slurp(dir.file(path)));
+    r.erase("scene_file");
+    r.erase("wall_time_s");
+    r["inputs_jam"].erase("output");
+    return r;
+}
+
+int run_shell(const std::string& command) {
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+    TEST_CASE("sweep under mpirun: 2 and 3 ranks give the serial table and the same reports") {
+        mrjam_test::TempDir dir("mrjam_sweep_mpi");
+        const std::string file = sweep(dir, continuum_sweep({"20x", "30x"}), "s.json");
+        REQUIRE(mrjam_test::mrjam(dir, "sweep " + file + " --quiet --out " + dir.file("serial")).exit_code == 0);
+        for (int ranks : {2, 3}) {
+            const std::string out = "np" + std::to_string(ranks);
+            REQUIRE(run_shell(mpirun(ranks) + file + " --quiet --out " + mrjam_test::quote(dir.file(out)) + " > " +
+                              mrjam_test::quote(dir.file(out + ".log")) + " 2>&1") == 0);
+            CHECK(table_rows(dir, out) == table_rows(dir, "serial"));
+            for (const char* p : {"p0000", "p0003", "p0007"})
+                CHECK(comparable_report(dir, out + "/points/" + p + "/report.json") ==
+                      comparable_report(dir, std::string("serial/points/") + p + "/report.json"));
+        }
+    }
+
+    TEST_CASE("sweep under mpirun: a rank killed mid-sweep loses its point only; the rerun finishes it") {
+        mrjam_test::TempDir dir("mrjam_sweep_mpi");
+        const std::string file = sweep(dir, continuum_sweep({"20x", "30x", "40x"}), "s.json");
+        REQUIRE(mrjam_test::mrjam(dir, "sweep " + file + " --quiet --out " + dir.file("serial")).exit_code == 0);
+        const std::string out = mrjam_test::quote(dir.file("cut"));
+        // Once four points have folders, SIGKILL the newest rank; mpirun then ends the others.
+        const int killed =
+            run_shell("(" + mpirun(3) + file + " --quiet --out " + out + " > /dev/null 2>&1 & pid=$!; " +
+                      "for i in $(seq 600); do [ \"$(ls " + out + "/points 2>/dev/null | wc -l)\" -ge 4 ] && break; " +
+                      "sleep 0.05; done; " + "pkill -9 -P $pid -n; wait $pid)");
+        CHECK(killed != 0);
+        REQUIRE(run_shell(mpirun(3) + file + " --quiet --out " + out + " > /dev/null 2>&1") == 0);
+        CHECK(table_rows(dir, "cut") == table_rows(dir, "serial"));
+        int twice = 0;
+        for (const json& p : json::parse(mrjam_test::slurp(dir.file("cut/manifest.json")))["points"]) {
+            CHECK(p["attempts"].get<int>() <= 2);
+            twice += p["attempts"].get<int>() == 2;
+        }
+        CHECK(twice <= 3);  // at most the points in flight on the three ranks: none done is run again
+    }
+}
+#endif
 #endif

@@ -24,7 +24,7 @@ std::string own_executable() {
 }
 
 ProcessResult run_point_process(const std::string& program, const std::vector<std::string>& args,
-                                const std::string& log_path) {
+                                const std::string& log_path, const std::function<void()>& while_waiting) {
     const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (log < 0) throw std::runtime_error("cannot open " + log_path + ": " + std::strerror(errno));
     std::vector<std::string> words{program};
@@ -57,6 +57,7 @@ ProcessResult run_point_process(const std::string& program, const std::vector<st
             ::kill(pid, SIGINT);  // the child checkpoints and exits 130
             passed_on = true;
         }
+        if (while_waiting) while_waiting();
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

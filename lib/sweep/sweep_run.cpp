@@ -12,6 +12,7 @@
 #include "run/interrupt.hpp"
 #include "scene/scene_node.hpp"
 #include "sweep/point_process.hpp"
+#include "sweep/point_queue.hpp"
 #include "sweep/sweep_spec.hpp"
 #include "sweep/sweep_table.hpp"
 
@@ -80,12 +81,12 @@ std::string differences(const json& before, const json& now) {
 
 // DIR/sweep.json: the sweep file and each point's folder, so folders keep their points when
 // --extend adds new ones. Returns the registry's points, in folder order.
-json open_registry(const SweepOptions& o, const SweepSpec& spec, const std::vector<SweepPoint>& points) {
+json open_registry(const SweepOptions& o, const SweepSpec& spec, const std::vector<SweepPoint>& points, bool writer) {
     const fs::path dir(o.out_dir), file = dir / "sweep.json";
     json registry = read_json_file(file);
     if (registry.is_null()) {
         std::error_code ec;
-        if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
+        if (writer && fs::exists(dir, ec) && !fs::is_empty(dir, ec))
             throw SceneError("--out", o.out_dir + " holds files that are not a sweep's: choose a new or empty folder");
         if (o.collect) throw SceneError("--out", o.out_dir + " holds no sweep to collect");
         registry = {{"sweep", spec.source}, {"points", json::array()}};
@@ -106,7 +107,7 @@ json open_registry(const SweepOptions& o, const SweepSpec& spec, const std::vect
     for (const SweepPoint& p : points)
         if (!known.count(p.values.dump()))
             registry["points"].push_back({{"folder", folder_name(registry["points"].size())}, {"values", p.values}});
-    if (!o.collect) {
+    if (!o.collect && writer) {
         fs::create_directories(dir / "points");
         write_json_file(file, registry);
     }
@@ -155,7 +156,7 @@ struct Tally {
 };
 
 // Runs one point; false if the sweep was interrupted during it.
-bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, Tally& tally) {
+bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, Tally& tally, PointQueue& queue) {
     const fs::path folder = fs::absolute(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>());
     fs::create_directories(folder);
     json state = read_json_file(folder / "state.json");
@@ -186,11 +187,13 @@ bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, 
     tally.wall += r.wall_seconds;
     if (o.progress) {
         const double left = tally.wall / static_cast<double>(tally.ran) * static_cast<double>(tally.to_run - tally.ran);
-        std::cerr << "[sweep] " << tally.ran << "/" << tally.to_run << " " << entry["folder"].get<std::string>() << " ("
-                  << describe(entry["values"]) << "): " << state["state"].get<std::string>() << " in "
-                  << static_cast<long>(r.wall_seconds) << " s";
+        std::cerr << "[sweep" << (queue.size() > 1 ? " rank " + std::to_string(queue.rank()) : std::string()) << "] ";
+        if (queue.size() == 1) std::cerr << tally.ran << "/" << tally.to_run << " ";
+        std::cerr << entry["folder"].get<std::string>() << " (" << describe(entry["values"])
+                  << "): " << state["state"].get<std::string>() << " in " << static_cast<long>(r.wall_seconds) << " s";
         if (tally.failed) std::cerr << "; " << tally.failed << " failed";
-        if (tally.ran < tally.to_run) std::cerr << "; about " << static_cast<long>(left / 60 + 0.5) << " min left";
+        if (queue.size() == 1 && tally.ran < tally.to_run)
+            std::cerr << "; about " << static_cast<long>(left / 60 + 0.5) << " min left";
         std::cerr << "\n";
     }
     return true;
@@ -223,6 +226,23 @@ void write_results(const SweepSpec& spec, const SweepOptions& o, const json& reg
     write_text_file(dir / "table.csv", sweep_table_csv(table));
 }
 
+// The registry's points this process may run: not done, in the current sweep, in its shard.
+std::vector<const json*> points_to_run(const SweepOptions& o, const std::vector<SweepPoint>& points,
+                                       const json& registry_points) {
+    std::set<std::string> current;
+    for (const SweepPoint& p : points) current.insert(p.values.dump());
+    std::vector<const json*> mine;
+    for (std::size_t n = 0; n < registry_points.size() && !o.collect; ++n) {
+        const json& entry = registry_points[n];
+        const json state =
+            read_json_file(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>() / "state.json");
+        const bool done = !state.is_null() && state["state"] == "done";
+        if (!done && current.count(entry["values"].dump()) && static_cast<int>(n % o.shards) == o.shard)
+            mine.push_back(&entry);
+    }
+    return mine;
+}
+
 }  // namespace
 
 int run_sweep(const SweepOptions& o) {
@@ -235,33 +255,32 @@ int run_sweep(const SweepOptions& o) {
     if (points.size() > kMostPointsUnasked && !o.yes && !o.collect)
         throw SceneError("--yes", "the sweep has " + std::to_string(points.size()) + " points (more than " +
                                       std::to_string(kMostPointsUnasked) + "): confirm with --yes");
-    const json registry_points = open_registry(o, spec, points);
+    const std::unique_ptr<PointQueue> queue = make_point_queue();
+    // The leader writes the registry; the others read it once it is there.
+    json registry_points = queue->leader() ? open_registry(o, spec, points, true) : json();
+    queue->synchronise();
+    if (!queue->leader()) registry_points = open_registry(o, spec, points, false);
     install_interrupt_handler();
-    std::set<std::string> current;
-    for (const SweepPoint& p : points) current.insert(p.values.dump());
-    std::vector<const json*> mine;
-    for (std::size_t n = 0; n < registry_points.size(); ++n) {
-        const json& entry = registry_points[n];
-        const json state =
-            read_json_file(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>() / "state.json");
-        const bool done = !state.is_null() && state["state"] == "done";
-        if (!o.collect && !done && current.count(entry["values"].dump()) && static_cast<int>(n % o.shards) == o.shard)
-            mine.push_back(&entry);
-    }
+    const std::vector<const json*> mine = points_to_run(o, points, registry_points);
+    queue->set_count(mine.size());
+    queue->synchronise();  // every process has read the states before any point runs
     Tally tally;
     tally.to_run = mine.size();
-    if (o.progress && !o.collect)
+    if (o.progress && !o.collect && queue->leader())
         std::cerr << "[sweep] " << points.size() << " points, " << points.size() - mine.size()
-                  << " done or in other shards; running " << mine.size() << "\n";
+                  << " done or in other shards; running " << mine.size()
+                  << (queue->size() > 1 ? " on " + std::to_string(queue->size()) + " ranks" : std::string()) << "\n";
     bool interrupted = false;
-    for (const json* entry : mine)
-        if (interrupt_requested() || !run_point(spec, o, *entry, tally)) {
-            interrupted = true;
-            break;
-        }
-    write_results(spec, o, registry_points);
+    while (!interrupted) {
+        const std::optional<std::size_t> k = interrupt_requested() ? std::nullopt : queue->next();
+        if (!k) break;
+        interrupted = !run_point(spec, o, *mine[*k], tally, *queue);
+    }
+    interrupted = interrupted || interrupt_requested();
+    queue->finish();
+    if (queue->leader()) write_results(spec, o, registry_points);
     if (interrupted) {
-        if (o.progress) std::cerr << "[sweep] interrupted: rerun the same command to continue\n";
+        if (o.progress && queue->leader()) std::cerr << "[sweep] interrupted: rerun the same command to continue\n";
         return 130;
     }
     return tally.failed > 0 ? 1 : 0;
