@@ -8,6 +8,7 @@
 
 #include "core/proportion_interval.hpp"
 #include "scene/scene_node.hpp"
+#include "sweep/sweep_plots.hpp"
 #include "sweep/sweep_spec.hpp"
 #include "sweep/sweep_table.hpp"
 #include "test_support.hpp"
@@ -117,6 +118,37 @@ TEST_SUITE("unit") {
         const std::string csv = mrjam::sweep_table_csv(table);
         CHECK(csv.find("point,state,valve/constriction,seed,hold,jammed\n") == 0);
         CHECK(csv.find("p5,failed,40x,3,,\n") != std::string::npos);
+    }
+
+    TEST_CASE("sweep: plots draw each line's points with their intervals; bad plot keys are refused") {
+        json file = sweep_file({{{"key", "fluid/supply_pressure"}, {"values", {"50 kPa", "100 kPa"}}},
+                                {{"key", "valve/constriction"}, {"values", {"20x", "40x"}}},
+                                {{"key", "seed"}, {"values", {1, 2}}}});
+        file["outputs"] = {{"jammed", "results/jammed"}};
+        file["plots"] = {{{"output", "jammed"}, {"x", "fluid/supply_pressure"}, {"lines", "valve/constriction"}}};
+        const mrjam::SweepSpec spec = mrjam::read_sweep(file, ".");
+        std::vector<mrjam::SweepRow> rows;
+        for (const auto& p : mrjam::sweep_points(spec))  // jams at 20x only, at both pressures
+            rows.push_back({p, "p", "done", {{"results", {{"jammed", p.values["valve/constriction"] == "20x"}}}}});
+        mrjam_test::TempDir dir("mrjam_sweep_plot");
+        const auto files = mrjam::write_sweep_plots(spec, mrjam::sweep_table(spec, rows), dir.path.string());
+        REQUIRE(files.size() == 1);
+        const std::string svg = mrjam_test::slurp(files[0]);
+        CHECK(svg.find("valve/constriction = 20x") != std::string::npos);
+        CHECK(svg.find("valve/constriction = 40x") != std::string::npos);
+        CHECK(svg.find("fluid/supply_pressure (Pa)") != std::string::npos);
+        CHECK(svg.find("share of the seeds, 95 % interval") != std::string::npos);
+        // Two pressures x two constrictions, each a share of its two seeds.
+        std::size_t circles = 0, at = 0;
+        while ((at = svg.find("<circle", at)) != std::string::npos) ++circles, ++at;
+        CHECK(circles == 4 + 2);  // and the legend's two markers
+        for (const json& bad :
+             {json{{"output", "held"}, {"x", "seed"}}, json{{"output", "jammed"}, {"x", "seed"}},
+              json{{"output", "jammed"}, {"x", "valve/constriction"}, {"lines", "valve/constriction"}}}) {
+            json f = file;
+            f["plots"] = {bad};
+            CHECK(refused_at(f).rfind("/plots/0", 0) == 0);
+        }
     }
 }
 

@@ -79,6 +79,14 @@ Axis make_axis(bool log, double lo, double hi, bool from_zero, bool pad_top) {
     return a;
 }
 
+// The bar below and above point k of a series (0 where it has none).
+std::pair<double, double> bar(const PlotSeries& s, std::size_t k) {
+    if (!s.error_low.empty() || !s.error_high.empty())
+        return {k < s.error_low.size() ? s.error_low[k] : 0.0, k < s.error_high.size() ? s.error_high[k] : 0.0};
+    const double e = k < s.error.size() ? s.error[k] : 0.0;
+    return {e, e};
+}
+
 }  // namespace
 
 void write_svg(const std::string& path, const Plot& plot) {
@@ -87,12 +95,12 @@ void write_svg(const std::string& path, const Plot& plot) {
     const Axis xprobe{plot.log_x}, yprobe{plot.log_y};
     for (const auto& s : plot.series)
         for (std::size_t k = 0; k < s.x.size(); ++k) {
-            const double e = k < s.error.size() ? s.error[k] : 0;
+            const auto [below, above] = bar(s, k);
             if (!xprobe.shows(s.x[k]) || !yprobe.shows(s.y[k])) continue;
             xmin = std::min(xmin, xprobe.plotted(s.x[k]));
             xmax = std::max(xmax, xprobe.plotted(s.x[k]));
-            ymin = std::min(ymin, yprobe.plotted(plot.log_y ? s.y[k] : s.y[k] - e));
-            ymax = std::max(ymax, yprobe.plotted(s.y[k] + e));
+            ymin = std::min(ymin, yprobe.plotted(plot.log_y ? s.y[k] : s.y[k] - below));
+            ymax = std::max(ymax, yprobe.plotted(s.y[k] + above));
         }
     const Axis xa = make_axis(plot.log_x, xmin, xmax, true, false);
     const Axis ya = make_axis(plot.log_y, ymin, ymax, plot.y_from_zero, true);
@@ -137,9 +145,10 @@ void write_svg(const std::string& path, const Plot& plot) {
         } else {
             for (std::size_t k = 0; k < s.x.size(); ++k) {
                 if (!xa.shows(s.x[k]) || !ya.shows(s.y[k])) continue;
-                if (k < s.error.size() && s.error[k] > 0 && ya.shows(s.y[k] - s.error[k]))
-                    o << "<line x1=\"" << X(s.x[k]) << "\" y1=\"" << Y(s.y[k] - s.error[k]) << "\" x2=\"" << X(s.x[k])
-                      << "\" y2=\"" << Y(s.y[k] + s.error[k]) << "\" stroke=\"" << s.colour << "\"/>\n";
+                const auto [below, above] = bar(s, k);
+                if (below + above > 0 && ya.shows(s.y[k] - below))
+                    o << "<line x1=\"" << X(s.x[k]) << "\" y1=\"" << Y(s.y[k] - below) << "\" x2=\"" << X(s.x[k])
+                      << "\" y2=\"" << Y(s.y[k] + above) << "\" stroke=\"" << s.colour << "\"/>\n";
                 o << "<circle cx=\"" << X(s.x[k]) << "\" cy=\"" << Y(s.y[k]) << "\" r=\"4\" fill=\""
                   << (s.hollow ? "white" : s.colour) << "\" stroke=\"" << s.colour << "\"/>\n";
             }

@@ -9,6 +9,9 @@ namespace mrjam {
 struct PlotSeries {
     std::string label;
     std::vector<double> x, y, error;  // error may be empty
+    // Asymmetric bars (a confidence interval): y - error_low to y + error_high; when given, they
+    // replace `error`.
+    std::vector<double> error_low, error_high;
     std::string colour = "#1f77b4";
     bool line = false;    // line instead of markers
     bool hollow = false;  // open markers

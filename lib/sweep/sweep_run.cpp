@@ -13,6 +13,7 @@
 #include "scene/scene_node.hpp"
 #include "sweep/point_process.hpp"
 #include "sweep/point_queue.hpp"
+#include "sweep/sweep_plots.hpp"
 #include "sweep/sweep_spec.hpp"
 #include "sweep/sweep_table.hpp"
 
@@ -220,7 +221,10 @@ void write_results(const SweepSpec& spec, const SweepOptions& o, const json& reg
         m["values"] = entry["values"];
         manifest["points"].push_back(m);
     }
-    const json table = sweep_table(spec, rows);
+    json table = sweep_table(spec, rows);
+    table["plots"] = json::array();
+    for (const std::string& f : write_sweep_plots(spec, table, dir.string()))
+        table["plots"].push_back(fs::path(f).filename().string());
     write_json_file(dir / "manifest.json", manifest);
     write_json_file(dir / "table.json", table);
     write_text_file(dir / "table.csv", sweep_table_csv(table));

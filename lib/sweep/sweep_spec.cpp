@@ -170,6 +170,30 @@ SweepAxis read_axis(const json& entry, const std::string& path, const json& base
     return axis;
 }
 
+std::vector<SweepPlot> read_plots(const json& plots, const std::vector<SweepOutput>& outputs,
+                                  const std::set<std::string>& swept) {
+    if (!plots.is_array()) throw SceneError("/plots", "expected a list of {\"output\", \"x\", \"lines\"}");
+    std::vector<SweepPlot> out;
+    for (std::size_t i = 0; i < plots.size(); ++i) {
+        const std::string path = "/plots/" + std::to_string(i);
+        const json& p = plots[i];
+        if (!p.is_object() || !p.contains("output") || !p.contains("x") || !p.at("output").is_string() ||
+            !p.at("x").is_string() || (p.contains("lines") && !p.at("lines").is_string()))
+            throw SceneError(path, "expected {\"output\": NAME, \"x\": KEY, \"lines\": KEY (optional)}");
+        SweepPlot plot{p.at("output").get<std::string>(), p.at("x").get<std::string>(), p.value("lines", "")};
+        bool known_output = false;
+        for (const SweepOutput& o : outputs) known_output = known_output || o.name == plot.output;
+        if (!known_output) throw SceneError(path + "/output", "\"" + plot.output + "\" is not one of /outputs");
+        if (!swept.count(plot.x)) throw SceneError(path + "/x", "\"" + plot.x + "\" is not a key of /axes");
+        if (!plot.lines.empty() && (!swept.count(plot.lines) || plot.lines == plot.x))
+            throw SceneError(path + "/lines", "\"" + plot.lines + "\" is not another key of /axes");
+        if (plot.x == "seed" || plot.lines == "seed")
+            throw SceneError(path, "the seeds are aggregated over, not plotted against");
+        out.push_back(plot);
+    }
+    return out;
+}
+
 }  // namespace
 
 const std::vector<std::vector<std::string>>& sweepable_commands() {
@@ -212,10 +236,10 @@ std::vector<json> range_values(const json& entry, const std::string& path) {
 
 SweepSpec read_sweep(const json& file, const std::string& sweep_directory) {
     if (!file.is_object()) throw SceneError("/", "a sweep file is a JSON object (docs/sweep.md)");
-    static const std::set<std::string> known{"description", "mode", "args", "scene", "axes", "outputs"};
+    static const std::set<std::string> known{"description", "mode", "args", "scene", "axes", "outputs", "plots"};
     for (const auto& [key, value] : file.items())
         if (!known.count(key))
-            throw SceneError("/" + key, "unknown key (known: description, mode, args, scene, axes, outputs)");
+            throw SceneError("/" + key, "unknown key (known: description, mode, args, scene, axes, outputs, plots)");
     SweepSpec spec;
     spec.source = file;
     spec.command = read_command(file);
@@ -240,6 +264,7 @@ SweepSpec read_sweep(const json& file, const std::string& sweep_directory) {
             spec.outputs.push_back({name, path.get<std::string>()});
         }
     }
+    if (file.contains("plots")) spec.plots = read_plots(file.at("plots"), spec.outputs, swept);
     return spec;
 }
 

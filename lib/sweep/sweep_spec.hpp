@@ -9,7 +9,8 @@
 //             {"key": "field/scale", "from": 0.5, "to": 2, "count": 4, "spacing": "log"},
 //             {"keys": ["grains/volume_fraction", "fluid/viscosity"], "values": [[0.3, "0.1 Pa s"], ...]},
 //             {"key": "seed", "values": [1, 2, 3]}],
-//    "outputs": {"outcome": "results/outcome", "jammed": "results/jammed"}}
+//    "outputs": {"outcome": "results/outcome", "jammed": "results/jammed"},
+//    "plots": [{"output": "jammed", "x": "field/scale", "lines": "valve/constriction"}]}
 //
 // Axes combine as a product, the last varying fastest; the keys of one axis entry are zipped.
 #include <nlohmann/json.hpp>
@@ -28,6 +29,11 @@ struct SweepOutput {
     std::string path;  // where in the mode's report ("results/jammed")
 };
 
+// A picture of one output against one swept key, a line per value of another (or one line).
+struct SweepPlot {
+    std::string output, x, lines;  // lines may be empty
+};
+
 struct SweepSpec {
     std::vector<std::string> command;  // the mode's words after `mrjam` ("jam"; "asteroid", "spinup")
     std::vector<std::string> args;     // passed to every point's run ("--fidelity", "quick")
@@ -35,6 +41,7 @@ struct SweepSpec {
     std::string base_directory;        // the base scene's (or the sweep file's) folder
     std::vector<SweepAxis> axes;
     std::vector<SweepOutput> outputs;
+    std::vector<SweepPlot> plots;
     nlohmann::json source;  // the sweep file as given: a rerun into the same folder must match it
 };
 
