@@ -1,5 +1,6 @@
 #include "shear/flow_curve_fit.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,35 +9,6 @@ namespace mrjam {
 namespace {
 
 constexpr int kMaxParams = 3;
-using Matrix = std::array<std::array<double, kMaxParams>, kMaxParams>;
-
-// Inverse of the leading p x p block by Gauss-Jordan with partial pivoting; false if singular.
-bool invert(Matrix a, int p, Matrix& inv) {
-    for (int i = 0; i < p; ++i)
-        for (int j = 0; j < p; ++j) inv[i][j] = i == j ? 1.0 : 0.0;
-    for (int c = 0; c < p; ++c) {
-        int pivot = c;
-        for (int r = c + 1; r < p; ++r)
-            if (std::abs(a[r][c]) > std::abs(a[pivot][c])) pivot = r;
-        if (std::abs(a[pivot][c]) < 1e-300) return false;
-        std::swap(a[c], a[pivot]);
-        std::swap(inv[c], inv[pivot]);
-        const double d = a[c][c];
-        for (int j = 0; j < p; ++j) {
-            a[c][j] /= d;
-            inv[c][j] /= d;
-        }
-        for (int r = 0; r < p; ++r) {
-            if (r == c) continue;
-            const double f = a[r][c];
-            for (int j = 0; j < p; ++j) {
-                a[r][j] -= f * a[c][j];
-                inv[r][j] -= f * inv[c][j];
-            }
-        }
-    }
-    return true;
-}
 
 // Linear least squares y ~ sum_k c_k basis_k(row): coefficients, and the covariance as the larger
 // (per parameter) of the residual-scatter and the propagated-error-bar estimates.
@@ -52,16 +24,19 @@ LinearFit least_squares(const std::vector<std::array<double, kMaxParams>>& rows,
     LinearFit fit;
     const std::size_t n = rows.size();
     if (n < static_cast<std::size_t>(p)) return fit;
-    Matrix ata{}, inv{};
-    std::array<double, kMaxParams> aty{};
-    for (std::size_t i = 0; i < n; ++i)
-        for (int a = 0; a < p; ++a) {
-            aty[a] += rows[i][a] * y[i];
-            for (int b = 0; b < p; ++b) ata[a][b] += rows[i][a] * rows[i][b];
-        }
-    if (!invert(ata, p, inv)) return fit;
-    for (int a = 0; a < p; ++a)
-        for (int b = 0; b < p; ++b) fit.coef[a] += inv[a][b] * aty[b];
+    // The normal equations (p <= 3): inverted by Eigen, whose inverse is needed for the errors.
+    Eigen::MatrixXd design(n, p);
+    Eigen::VectorXd values(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int a = 0; a < p; ++a) design(static_cast<Eigen::Index>(i), a) = rows[i][a];
+        values(static_cast<Eigen::Index>(i)) = y[i];
+    }
+    const Eigen::MatrixXd normal = design.transpose() * design;
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(normal);
+    if (!lu.isInvertible()) return fit;
+    const Eigen::MatrixXd inv = lu.inverse();
+    const Eigen::VectorXd coef = inv * (design.transpose() * values);
+    for (int a = 0; a < p; ++a) fit.coef[a] = coef(a);
     for (std::size_t i = 0; i < n; ++i) {
         double model = 0;
         for (int a = 0; a < p; ++a) model += fit.coef[a] * rows[i][a];
@@ -72,11 +47,11 @@ LinearFit least_squares(const std::vector<std::array<double, kMaxParams>>& rows,
     for (std::size_t i = 0; i < n; ++i) {
         std::array<double, kMaxParams> g{};  // d coef / d y_i
         for (int a = 0; a < p; ++a)
-            for (int b = 0; b < p; ++b) g[a] += inv[a][b] * rows[i][b];
+            for (int b = 0; b < p; ++b) g[a] += inv(a, b) * rows[i][b];
         for (int a = 0; a < p; ++a) var_prop[a] += g[a] * g[a] * y_error[i] * y_error[i];
     }
     const double s2 = n > static_cast<std::size_t>(p) ? fit.ssr / static_cast<double>(n - p) : 0.0;
-    for (int a = 0; a < p; ++a) fit.sigma[a] = std::sqrt(std::max(var_prop[a], s2 * inv[a][a]));
+    for (int a = 0; a < p; ++a) fit.sigma[a] = std::sqrt(std::max(var_prop[a], s2 * inv(a, a)));
     fit.ok = true;
     return fit;
 }

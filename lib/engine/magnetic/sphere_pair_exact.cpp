@@ -1,5 +1,6 @@
 #include "magnetic/sphere_pair_exact.hpp"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -9,45 +10,6 @@
 namespace mrjam {
 
 namespace {
-
-// Dense LU with partial pivoting: the systems are a few thousand unknowns at most.
-class DenseLu {
-public:
-    DenseLu(std::vector<double> matrix, int size) : a_(std::move(matrix)), n_(size), pivot_(size) {
-        for (int k = 0; k < n_; ++k) {
-            int p = k;
-            for (int i = k + 1; i < n_; ++i)
-                if (std::abs(at(i, k)) > std::abs(at(p, k))) p = i;
-            if (at(p, k) == 0.0) throw std::runtime_error("sphere pair: singular multipole system");
-            pivot_[k] = p;
-            if (p != k)
-                for (int j = 0; j < n_; ++j) std::swap(at(k, j), at(p, j));
-            const double inv = 1.0 / at(k, k);
-            for (int i = k + 1; i < n_; ++i) {
-                const double f = (at(i, k) *= inv);
-                if (f == 0.0) continue;
-                for (int j = k + 1; j < n_; ++j) at(i, j) -= f * at(k, j);
-            }
-        }
-    }
-    std::vector<double> solve(std::vector<double> b) const {
-        for (int k = 0; k < n_; ++k) std::swap(b[k], b[pivot_[k]]);
-        for (int i = 0; i < n_; ++i)
-            for (int j = 0; j < i; ++j) b[i] -= at(i, j) * b[j];
-        for (int i = n_ - 1; i >= 0; --i) {
-            for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
-            b[i] /= at(i, i);
-        }
-        return b;
-    }
-
-private:
-    double& at(int i, int j) { return a_[static_cast<size_t>(i) * n_ + j]; }
-    double at(int i, int j) const { return a_[static_cast<size_t>(i) * n_ + j]; }
-    std::vector<double> a_;
-    int n_;
-    std::vector<int> pivot_;
-};
 
 // The sphere's reply to an incident regular harmonic of order n (radius 1): A_n = -gamma_n B_n.
 double reply(double mu, int n) { return n * (mu - 1.0) / (n * mu + n + 1.0); }
@@ -79,34 +41,31 @@ SpherePairResponse sphere_pair_response(double mu, double separation, PairOrient
     if (order < 1) throw std::invalid_argument("sphere pair: order must be at least 1");
     const int m = azimuthal_order(orientation);
     const int size = 2 * order;  // A^1_1..A^1_N, then A^2_1..A^2_N
-    std::vector<double> matrix(static_cast<size_t>(size) * size, 0.0), dmatrix(matrix.size(), 0.0);
-    std::vector<double> rhs(size, 0.0);
+    Eigen::MatrixXd matrix = Eigen::MatrixXd::Zero(size, size), dmatrix = Eigen::MatrixXd::Zero(size, size);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(size);
     for (int sphere = 0; sphere < 2; ++sphere) {
         const double offset = sphere == 0 ? separation : -separation;  // the other centre, seen from this one
         for (int l = 1; l <= order; ++l) {
             const int row = sphere * order + (l - 1);
             const double g = reply(mu, l);
-            matrix[static_cast<size_t>(row) * size + row] = 1.0;
+            matrix(row, row) = 1.0;
             for (int n = 1; n <= order; ++n) {
                 const int col = (1 - sphere) * order + (n - 1);
                 const double t = g * translation_coefficient(m, l, n, offset);
-                matrix[static_cast<size_t>(row) * size + col] = t;
-                dmatrix[static_cast<size_t>(row) * size + col] = -t * (l + n + 1) / separation;
+                matrix(row, col) = t;
+                dmatrix(row, col) = -t * (l + n + 1) / separation;
             }
         }
         // The applied potential is -r P_1^m e^{i m phi} about either centre: B_1 = -1.
-        rhs[sphere * order] = reply(mu, 1);
+        rhs(sphere * order) = reply(mu, 1);
     }
-    const DenseLu lu(matrix, size);
-    const std::vector<double> a = lu.solve(rhs);
-    std::vector<double> da_rhs(size, 0.0);
-    for (int i = 0; i < size; ++i) {
-        double acc = 0;
-        for (int j = 0; j < size; ++j) acc += dmatrix[static_cast<size_t>(i) * size + j] * a[j];
-        da_rhs[i] = -acc;
-    }
-    const std::vector<double> da = lu.solve(da_rhs);
-    return {a[0] + a[order], da[0] + da[order], order};
+    // Dense LU with partial pivoting (the systems are a few thousand unknowns at most); the
+    // derivative in the separation from the same factors: M da = -(dM/ds) a.
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(matrix);
+    const Eigen::VectorXd a = lu.solve(rhs);
+    if (!a.allFinite()) throw std::runtime_error("sphere pair: singular multipole system");
+    const Eigen::VectorXd da = lu.solve(-(dmatrix * a));
+    return {a(0) + a(order), da(0) + da(order), order};
 }
 
 SpherePairResponse converged_sphere_pair_response(double mu, double separation, PairOrientation orientation,
