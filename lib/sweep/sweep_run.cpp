@@ -168,8 +168,9 @@ bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, 
     state["state"] = "running";
     state["attempts"] = state["attempts"].get<int>() + 1;
     write_json_file(folder / "state.json", state);
-    const ProcessResult r =
-        run_point_process(own_executable(), point_command(spec, o, folder), (folder / "log.txt").string());
+    // Rank 0 of an MPI sweep keeps handing out points while its own runs.
+    const ProcessResult r = run_point_process(own_executable(), point_command(spec, o, folder),
+                                              (folder / "log.txt").string(), [&queue] { queue.serve(); });
     state["wall_s"] = state.value("wall_s", 0.0) + r.wall_seconds;
     state["exit_status"] = r.exit_status;
     state.erase("error");
