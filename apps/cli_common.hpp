@@ -8,6 +8,7 @@
 
 #include "core/exit_status.hpp"
 #include "core/proportion_interval.hpp"
+#include "scene/scene_file.hpp"
 
 namespace mrjam::cli {
 
@@ -17,11 +18,6 @@ using mrjam::kExitBadInput;
 using mrjam::kExitError;
 using mrjam::kExitInterrupted;
 
-// Bounds on what a scene file may make the reader allocate: its size, and its nesting (the
-// duplicate-key check keeps a path per open level, so memory grows with the square of the depth).
-inline constexpr std::uintmax_t kMostSceneBytes = std::uintmax_t{256} << 20;
-inline constexpr std::size_t kMostSceneDepth = 64;
-
 // OpenMP threads that spin at their barriers (libgomp's default) collapse when the machine has
 // other work: two threads beside two busy jobs ran the chained magnetic bench 15 times slower
 // than one thread. Unless the user chose a policy (OMP_WAIT_POLICY or GOMP_SPINCOUNT), this sets
@@ -29,9 +25,6 @@ inline constexpr std::size_t kMostSceneDepth = 64;
 // process keeps its pid; if /proc/self/exe cannot be run, the program goes on as it is).
 // docs/benchmarks.md, "Threads on a busy machine", measures both policies.
 void ensure_passive_openmp_wait(char** argv);
-
-// Parses a JSON file; throws SceneError with the file name and the parser's position.
-nlohmann::json read_json_file(const std::string& path);
 
 // Parses the command line and runs the chosen subcommand's callback, turning what it throws into
 // the exit status: bad input (a CLI error, a SceneError naming the key) 2, a blow-up 3, another

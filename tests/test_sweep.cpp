@@ -236,6 +236,12 @@ TEST_SUITE("cli") {
         const auto bad = mrjam_test::mrjam(dir, "sweep " + file + " --out " + dir.file("x") + " --shard 2/2");
         CHECK(bad.exit_code == 2);
         CHECK(bad.err.find("--shard") != std::string::npos);
+        // The sweep file is read as scenes are: a key given twice is refused, naming it.
+        mrjam_test::write_text(dir.file("twice.json"), R"({"mode": "jam", "mode": "shear", "scene": {}, "axes": []})");
+        const auto twice = mrjam_test::mrjam(
+            dir, "sweep " + mrjam_test::quote(dir.file("twice.json")) + " --out " + mrjam_test::quote(dir.file("y")));
+        CHECK(twice.exit_code == 2);
+        CHECK(twice.err.find("/mode: is given twice") != std::string::npos);
     }
 
     TEST_CASE("sweep: SIGINT stops the sweep with 130; the rerun finishes it, no point done twice") {

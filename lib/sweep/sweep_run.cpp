@@ -10,6 +10,7 @@
 #include <set>
 
 #include "run/interrupt.hpp"
+#include "scene/scene_file.hpp"
 #include "scene/scene_node.hpp"
 #include "sweep/point_process.hpp"
 #include "sweep/point_queue.hpp"
@@ -23,7 +24,8 @@ using json = nlohmann::json;
 
 namespace {
 
-json read_json_file(const fs::path& path) {
+// A file the sweep wrote itself (state, registry, report); null if absent or cut short.
+json read_state_file(const fs::path& path) {
     std::ifstream in(path);
     if (!in) return json();
     try {
@@ -41,17 +43,6 @@ fs::path temporary_for(const fs::path& path) {
 }
 
 // Written whole or not at all: a kill mid-write leaves the previous file.
-void write_json_file(const fs::path& path, const json& value) {
-    const fs::path tmp = temporary_for(path);
-    {
-        std::ofstream out(tmp);
-        if (!out) throw std::runtime_error("cannot write " + tmp.string());
-        out << value.dump(1) << "\n";
-        if (!out) throw std::runtime_error("failed writing " + tmp.string());
-    }
-    fs::rename(tmp, path);
-}
-
 void write_text_file(const fs::path& path, const std::string& text) {
     const fs::path tmp = temporary_for(path);
     {
@@ -61,6 +52,8 @@ void write_text_file(const fs::path& path, const std::string& text) {
     }
     fs::rename(tmp, path);
 }
+
+void write_json_file(const fs::path& path, const json& value) { write_text_file(path, value.dump(1) + "\n"); }
 
 std::string folder_name(std::size_t n) {
     char b[16];
@@ -84,7 +77,7 @@ std::string differences(const json& before, const json& now) {
 // --extend adds new ones. Returns the registry's points, in folder order.
 json open_registry(const SweepOptions& o, const SweepSpec& spec, const std::vector<SweepPoint>& points, bool writer) {
     const fs::path dir(o.out_dir), file = dir / "sweep.json";
-    json registry = read_json_file(file);
+    json registry = read_state_file(file);
     if (registry.is_null()) {
         std::error_code ec;
         if (writer && fs::exists(dir, ec) && !fs::is_empty(dir, ec))
@@ -160,7 +153,7 @@ struct Tally {
 bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, Tally& tally, PointQueue& queue) {
     const fs::path folder = fs::absolute(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>());
     fs::create_directories(folder);
-    json state = read_json_file(folder / "state.json");
+    json state = read_state_file(folder / "state.json");
     if (state.is_null()) state = {{"state", "pending"}, {"attempts", 0}};
     SweepPoint point{0, entry["values"]};
     if (!fs::exists(folder / "scene.json"))
@@ -201,21 +194,29 @@ bool run_point(const SweepSpec& spec, const SweepOptions& o, const json& entry, 
     return true;
 }
 
+// The points of the current sweep file, by their values (the registry may hold more: a file
+// accepted with --extend that dropped a value keeps that value's folders).
+std::set<std::string> current_values(const std::vector<SweepPoint>& points) {
+    std::set<std::string> current;
+    for (const SweepPoint& p : points) current.insert(p.values.dump());
+    return current;
+}
+
 // DIR/manifest.json, table.json and table.csv from every point's folder.
-void write_results(const SweepSpec& spec, const SweepOptions& o, const json& registry_points) {
+void write_results(const SweepSpec& spec, const SweepOptions& o, const std::vector<SweepPoint>& points,
+                   const json& registry_points) {
     const fs::path dir(o.out_dir);
     std::vector<SweepRow> rows;
     json manifest{{"points", json::array()}};
-    std::set<std::string> current;
-    for (const SweepPoint& p : sweep_points(spec)) current.insert(p.values.dump());
+    const std::set<std::string> current = current_values(points);
     for (const json& entry : registry_points) {
         if (!current.count(entry["values"].dump())) continue;
         const fs::path folder = dir / "points" / entry["folder"].get<std::string>();
-        json state = read_json_file(folder / "state.json");
+        json state = read_state_file(folder / "state.json");
         if (state.is_null()) state = {{"state", "pending"}, {"attempts", 0}};
         SweepRow row{SweepPoint{0, entry["values"]}, "points/" + entry["folder"].get<std::string>(),
                      state["state"].get<std::string>(), json()};
-        if (row.state == "done") row.report = read_json_file(folder / "report.json");
+        if (row.state == "done") row.report = read_state_file(folder / "report.json");
         rows.push_back(row);
         json m = state;
         m["folder"] = row.folder;
@@ -234,13 +235,12 @@ void write_results(const SweepSpec& spec, const SweepOptions& o, const json& reg
 // The registry's points this process may run: not done, in the current sweep, in its shard.
 std::vector<const json*> points_to_run(const SweepOptions& o, const std::vector<SweepPoint>& points,
                                        const json& registry_points) {
-    std::set<std::string> current;
-    for (const SweepPoint& p : points) current.insert(p.values.dump());
+    const std::set<std::string> current = current_values(points);
     std::vector<const json*> mine;
     for (std::size_t n = 0; n < registry_points.size() && !o.collect; ++n) {
         const json& entry = registry_points[n];
         const json state =
-            read_json_file(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>() / "state.json");
+            read_state_file(fs::path(o.out_dir) / "points" / entry["folder"].get<std::string>() / "state.json");
         const bool done = !state.is_null() && state["state"] == "done";
         if (!done && current.count(entry["values"].dump()) && static_cast<int>(n % o.shards) == o.shard)
             mine.push_back(&entry);
@@ -254,7 +254,6 @@ int run_sweep(const SweepOptions& o) {
     if (o.shards < 1 || o.shard < 0 || o.shard >= o.shards)
         throw SceneError("--shard", "I/N with 0 <= I < N, e.g. 0/4 for the first of four shards");
     const json file = read_json_file(o.sweep_path);
-    if (file.is_null()) throw SceneError(o.sweep_path, "cannot read it as JSON");
     const SweepSpec spec = read_sweep(file, fs::absolute(o.sweep_path).parent_path().string());
     const std::vector<SweepPoint> points = sweep_points(spec);
     if (points.size() > kMostPointsUnasked && !o.yes && !o.collect)
@@ -283,7 +282,7 @@ int run_sweep(const SweepOptions& o) {
     }
     interrupted = interrupted || interrupt_requested();
     queue->finish();
-    if (queue->leader()) write_results(spec, o, registry_points);
+    if (queue->leader()) write_results(spec, o, points, registry_points);
     if (interrupted) {
         if (o.progress && queue->leader()) std::cerr << "[sweep] interrupted: rerun the same command to continue\n";
         return 130;

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
+#include "scene/scene_file.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 
@@ -66,13 +66,11 @@ json read_base_scene(const json& file, const std::string& sweep_directory, std::
     if (!given.is_string()) throw SceneError("/scene", "expected a scene object or a file name");
     fs::path path(given.get<std::string>());
     if (path.is_relative()) path = fs::path(sweep_directory) / path;
-    std::ifstream in(path);
-    if (!in) throw SceneError("/scene", "cannot read " + path.string());
     json scene;
     try {
-        scene = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw SceneError("/scene", path.string() + " is not valid JSON: " + e.what());
+        scene = read_json_file(path.string());  // the modes' reader: bounded, duplicate keys refused
+    } catch (const SceneError& e) {
+        throw SceneError("/scene", e.what());
     }
     if (!scene.is_object()) throw SceneError("/scene", path.string() + " does not hold a JSON object");
     base_directory = fs::absolute(path).parent_path().string();
