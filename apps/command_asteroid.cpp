@@ -17,6 +17,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "core/format.hpp"
+#include "core/machine_threads.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 
@@ -30,7 +31,7 @@ struct AsteroidArgs {
     std::string report = "asteroid_report.json";
     std::string resume;
     std::string fidelity = "quick";
-    int threads = 1;
+    int threads = machine_threads();  // the cores this process may use
     bool quiet = false;
 };
 

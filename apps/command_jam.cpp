@@ -5,6 +5,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "core/machine_threads.hpp"
 #include "jam/jam_campaign.hpp"
 #include "jam/jam_scene.hpp"
 #include "run/interrupt.hpp"
@@ -34,7 +35,10 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         cmd->add_option("--seeds", req->seeds, "Independent packings (seed, seed+1, ...): jam probability")
             ->check(CLI::Range(1, 1000))
             ->capture_default_str();
-    cmd->add_option("--threads", req->threads, "OpenMP threads")->check(CLI::Range(1, 1024))->capture_default_str();
+    req->threads = machine_threads();  // the cores this process may use
+    cmd->add_option("--threads", req->threads, "OpenMP threads (default: the machine's cores)")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     cmd->add_flag("--quiet", *quiet, "No progress lines on stderr");
     cmd->callback([req, quiet, fidelity, seeds_option, &exit_status] {
         if (req->scene_path.empty() == req->resume.empty())

@@ -6,6 +6,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "core/machine_threads.hpp"
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
 #include "run/interrupt.hpp"
@@ -21,7 +22,7 @@ struct RunArgs {
     std::string scene;
     std::string report = "report.json";
     std::string resume;
-    int threads = 1;
+    int threads = machine_threads();  // the cores this process may use
     bool quiet = false;
     std::string fidelity = "standard";
 };

@@ -7,6 +7,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "core/machine_threads.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
@@ -26,7 +27,7 @@ struct ShearArgs {
     std::string calibrate;
     std::vector<std::string> parameters;
     int max_runs = 8;
-    int threads = 1;
+    int threads = machine_threads();  // the cores this process may use
     bool quiet = false;
     std::string fidelity = "standard";
 };

@@ -33,7 +33,9 @@ void add_sweep_command(CLI::App& app, int& exit_status) {
     CLI::App* cmd = app.add_subcommand("sweep", "Any mode over parameter axes, each point its own run (resumable)");
     cmd->add_option("sweep", o->sweep_path, "Sweep JSON file (see docs/sweep.md)")->required();
     cmd->add_option("--out", o->out_dir, "The sweep's folder: points, manifest, table")->required();
-    cmd->add_option("--threads", o->threads, "OpenMP threads of each point's run")->check(CLI::Range(1, 1024));
+    cmd->add_option("--threads", o->threads,
+                    "OpenMP threads of each point's run (default: the machine's cores; 1 per MPI rank)")
+        ->check(CLI::Range(1, 1024));
     cmd->add_flag("--extend", o->extend, "Accept a sweep file that only adds points to the folder's");
     cmd->add_flag("--yes", o->yes, "Run a sweep of more than 100 points");
     cmd->add_option("--shard", *shard, "I/N: run only the points whose number modulo N is I");

@@ -181,13 +181,19 @@ private:
         const long long seed = js.engine_scene["seed"].get<long long>() + k;
         if (req_.progress)
             std::cerr << "[design] " << name(c) << ": seed " << seed << " (" << k + 1 << "/" << spec_.seeds << ")\n";
-        const JamOutcome o = [&] {
-            try {
-                return run_jam(js, seed, seed_options(c, jscene, k));
-            } catch (const SceneError& e) {
-                throw from_jam_run(e, spec_, c);
-            }
-        }();
+        const json where = {{"constriction", name(c)}, {"seed", seed}, {"seed_index", k}};
+        JamOutcome o;
+        try {
+            o = run_jam(js, seed, seed_options(c, jscene, k));
+        } catch (const SceneError& e) {
+            throw from_jam_run(e, spec_, c);
+        } catch (const SetupInterrupted&) {
+            // Ctrl-C while this seed placed its grains: it has no checkpoint, and --resume starts it
+            // afresh after what the design kept (the field, the seeds before it).
+            json stopped = where;
+            stopped["stage"] = "grain placement";
+            return interrupted(stopped);
+        }
         // Every seed's own report (flux and flow histories, clusters) stays beside the map, named
         // by the seed itself, as the design report's runs name it.
         const fs::path seed_report =
@@ -195,10 +201,9 @@ private:
         json jam_report = o.report;
         jam_report["inputs_jam"] = js.resolved;
         write_json_file(seed_report.string(), jam_report);
-        const json where = {
-            {"constriction", name(c)}, {"seed", seed}, {"seed_index", k}, {"jam_report", seed_report.string()}};
         if (o.exit_status == kExitInterrupted) {
             json stopped = where;
+            stopped["jam_report"] = seed_report.string();
             stopped["stage"] = "jam run";
             stopped["checkpoint"] = checkpoint_path(c).string();
             return interrupted(stopped);
@@ -221,6 +226,7 @@ private:
                   << " stopped; its partial report is " << seed_report << "\n";
         if (o.report.contains("error")) std::cerr << "[design] " << o.report["error"].get<std::string>() << "\n";
         where["exit_status"] = o.exit_status;
+        where["jam_report"] = seed_report.string();
         write_report(o.report.value("status", std::string("failed")), where);
         std::cerr << "[design] the constrictions finished before it are in " << req_.report_path << "\n";
         return {true, o.exit_status};

@@ -5,6 +5,7 @@
 // Scenes are written from this file into a fresh temporary directory; the binary is the one
 // CMake built next to the tests (MRJAM_BINARY).
 #include <doctest/doctest.h>
+#include <omp.h>
 #include <sys/wait.h>
 
 #include <atomic>
@@ -164,6 +165,25 @@ TEST_SUITE("cli") {
         CHECK(a["results"]["simulated_time_s"] == b["results"]["simulated_time_s"]);
         CHECK(b["results"]["kinetic_energy_J"].get<double>() ==
               rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
+    }
+
+    TEST_CASE("cli: without --threads a run takes the machine's cores, or OMP_NUM_THREADS when set") {
+        TempDir dir;
+        const char* before = std::getenv("OMP_NUM_THREADS");
+        const std::string saved = before ? before : "";
+        unsetenv("OMP_NUM_THREADS");
+        REQUIRE(run_scene(dir, "cores", small_scene()).exit_code == 0);
+        CHECK(read_report(dir, "cores")["threads"] == omp_get_num_procs());
+        setenv("OMP_NUM_THREADS", "3", 1);
+        REQUIRE(run_scene(dir, "env", small_scene()).exit_code == 0);
+        CHECK(read_report(dir, "env")["threads"] == 3);
+        setenv("OMP_NUM_THREADS", "3", 1);
+        REQUIRE(run_scene(dir, "option", small_scene(), "--threads 1").exit_code == 0);
+        CHECK(read_report(dir, "option")["threads"] == 1);  // the option wins
+        if (before)
+            setenv("OMP_NUM_THREADS", saved.c_str(), 1);
+        else
+            unsetenv("OMP_NUM_THREADS");
     }
 
     TEST_CASE("cli: unit strings are accepted and resolved to SI") {

@@ -751,46 +751,54 @@ TEST_SUITE("physics") {
     // ---------------------------------------------------------------------------------------------
     // Threads: the same forces (within round-off) whatever the thread count.
     TEST_CASE("magnetic: forces, torques and moments do not depend on the thread count beyond round-off") {
-        auto build = [&](std::uint64_t seed) {
-            std::mt19937_64 g(seed);
-            std::uniform_real_distribution<double> v(0, 1);
-            Rig rig(Vec3{0.01, 0.02, 0.3}, MutualPolicy::converged, 3.0);
-            rig.model.settings.tolerance = 1e-13;
-            const double R = 1e-4;
-            // 60 grains on a jittered cubic lattice of spacing 2.2 R, every tenth permanent.
-            int k = 0;
-            for (int i = 0; i < 4; ++i)
-                for (int j = 0; j < 5; ++j)
-                    for (int l = 0; l < 3; ++l, ++k) {
-                        const Vec3 x{2.2 * R * i + 0.1 * R * v(g), 2.2 * R * j + 0.1 * R * v(g),
-                                     2.2 * R * l + 0.1 * R * v(g)};
-                        if (k % 10 == 3)
-                            rig.add_permanent(x, R, Vec3{v(g) - 0.5, v(g) - 0.5, v(g) - 0.5} * 1e-6,
-                                              random_orientation(g));
-                        else
-                            rig.add(x, R, 1000.0, 1.7e6 * 4.0 / 3.0 * kPi * R * R * R);
-                    }
-            return rig;
-        };
-        Rig one = build(99), three = build(99);
-        one.evaluate(1);
-        three.evaluate(3);
-        double f_scale = 0, t_scale = 0, m_scale = 0;
-        for (std::size_t i = 0; i < one.p.size(); ++i) {
-            f_scale = std::max(f_scale, norm(one.p.force[i]));
-            t_scale = std::max(t_scale, norm(one.p.torque[i]));
-            m_scale = std::max(m_scale, norm(one.p.dipole_moment[i]));
-        }
-        REQUIRE(f_scale > 0);
-        REQUIRE(t_scale > 0);
-        // Sums in a different order: a few hundred roundings, ~1e-14 of the largest term; and the
-        // converged iteration stops on a change below 1e-13, so the two runs may stop one pass
-        // apart, ~1e-13 of the moments. 1e-11 of the largest term covers both.
-        for (std::size_t i = 0; i < one.p.size(); ++i) {
-            CAPTURE(i);
-            CHECK(norm(one.p.force[i] - three.p.force[i]) <= 1e-11 * f_scale);
-            CHECK(norm(one.p.torque[i] - three.p.torque[i]) <= 1e-11 * t_scale);
-            CHECK(norm(one.p.dipole_moment[i] - three.p.dipole_moment[i]) <= 1e-11 * m_scale);
+        // In a uniform field and in a field map (its gradient force and the permanent grains'
+        // torques summed per grain over the threads).
+        const std::shared_ptr<ExternalField> fields[2] = {
+            std::make_shared<UniformField>(Vec3{0.01, 0.02, 0.3}, 0.0, 0.0, 1e300),
+            std::make_shared<FieldMap>(sample(test_field, kCount, kOrigin, kSpacing))};
+        for (const auto& field : fields) {
+            CAPTURE(field->name());
+            auto build = [&](std::uint64_t seed) {
+                std::mt19937_64 g(seed);
+                std::uniform_real_distribution<double> v(0, 1);
+                Rig rig(field, MutualPolicy::converged, 3.0);
+                rig.model.settings.tolerance = 1e-13;
+                const double R = 1e-4;
+                // 60 grains on a jittered cubic lattice of spacing 2.2 R, every tenth permanent.
+                int k = 0;
+                for (int i = 0; i < 4; ++i)
+                    for (int j = 0; j < 5; ++j)
+                        for (int l = 0; l < 3; ++l, ++k) {
+                            const Vec3 x{2.2 * R * i + 0.1 * R * v(g), 2.2 * R * j + 0.1 * R * v(g),
+                                         2.2 * R * l + 0.1 * R * v(g)};
+                            if (k % 10 == 3)
+                                rig.add_permanent(x, R, Vec3{v(g) - 0.5, v(g) - 0.5, v(g) - 0.5} * 1e-6,
+                                                  random_orientation(g));
+                            else
+                                rig.add(x, R, 1000.0, 1.7e6 * 4.0 / 3.0 * kPi * R * R * R);
+                        }
+                return rig;
+            };
+            Rig one = build(99), three = build(99);
+            one.evaluate(1);
+            three.evaluate(3);
+            double f_scale = 0, t_scale = 0, m_scale = 0;
+            for (std::size_t i = 0; i < one.p.size(); ++i) {
+                f_scale = std::max(f_scale, norm(one.p.force[i]));
+                t_scale = std::max(t_scale, norm(one.p.torque[i]));
+                m_scale = std::max(m_scale, norm(one.p.dipole_moment[i]));
+            }
+            REQUIRE(f_scale > 0);
+            REQUIRE(t_scale > 0);
+            // Sums in a different order: a few hundred roundings, ~1e-14 of the largest term; and the
+            // converged iteration stops on a change below 1e-13, so the two runs may stop one pass
+            // apart, ~1e-13 of the moments. 1e-11 of the largest term covers both.
+            for (std::size_t i = 0; i < one.p.size(); ++i) {
+                CAPTURE(i);
+                CHECK(norm(one.p.force[i] - three.p.force[i]) <= 1e-11 * f_scale);
+                CHECK(norm(one.p.torque[i] - three.p.torque[i]) <= 1e-11 * t_scale);
+                CHECK(norm(one.p.dipole_moment[i] - three.p.dipole_moment[i]) <= 1e-11 * m_scale);
+            }
         }
     }
 

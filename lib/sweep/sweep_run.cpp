@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "core/machine_threads.hpp"
 #include "run/interrupt.hpp"
 #include "scene/scene_file.hpp"
 #include "scene/scene_node.hpp"
@@ -250,7 +251,8 @@ std::vector<const json*> points_to_run(const SweepOptions& o, const std::vector<
 
 }  // namespace
 
-int run_sweep(const SweepOptions& o) {
+int run_sweep(const SweepOptions& options) {
+    SweepOptions o = options;
     if (o.shards < 1 || o.shard < 0 || o.shard >= o.shards)
         throw SceneError("--shard", "I/N with 0 <= I < N, e.g. 0/4 for the first of four shards");
     const json file = read_json_file(o.sweep_path);
@@ -260,6 +262,8 @@ int run_sweep(const SweepOptions& o) {
         throw SceneError("--yes", "the sweep has " + std::to_string(points.size()) + " points (more than " +
                                       std::to_string(kMostPointsUnasked) + "): confirm with --yes");
     const std::unique_ptr<PointQueue> queue = make_point_queue();
+    // Ranks on one node would share its cores: one thread each unless told.
+    if (o.threads <= 0) o.threads = queue->size() > 1 ? 1 : machine_threads();
     // The leader writes the registry; the others read it once it is there.
     json registry_points = queue->leader() ? open_registry(o, spec, points, true) : json();
     queue->synchronise();

@@ -16,7 +16,7 @@ namespace mrjam {
 
 struct SweepOptions {
     std::string sweep_path, out_dir;
-    int threads = 1;            // passed to each point's run
+    int threads = 0;            // passed to each point's run; 0: the machine's cores, or 1 a rank under MPI
     bool extend = false;        // accept a sweep file that adds points to DIR's
     bool yes = false;           // run more than kMostPointsUnasked points
     int shard = 0, shards = 1;  // run the points whose number % shards == shard
