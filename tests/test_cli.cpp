@@ -177,7 +177,6 @@ TEST_SUITE("cli") {
         setenv("OMP_NUM_THREADS", "3", 1);
         REQUIRE(run_scene(dir, "env", small_scene()).exit_code == 0);
         CHECK(read_report(dir, "env")["threads"] == 3);
-        setenv("OMP_NUM_THREADS", "3", 1);
         REQUIRE(run_scene(dir, "option", small_scene(), "--threads 1").exit_code == 0);
         CHECK(read_report(dir, "option")["threads"] == 1);  // the option wins
         if (before)

@@ -1,12 +1,12 @@
 #pragma once
 // The default thread count of every command: the cores this process may run on (its affinity
-// mask, as OpenMP reads it), or OMP_NUM_THREADS when the user set it. Two threads run a 44 um
-// valve case 1.7-1.8 times faster than one on this project's 2-core machines (docs/benchmarks.md,
-// "The jam predictor's valve"); a run stays bit for bit the same for a given thread count.
+// mask, as OpenMP reads it), or OMP_NUM_THREADS when the user set it. Two threads run the
+// standard tier's 44 um valve 1.6 times faster than one on this project's idle 2-core machines
+// and 1.5 times beside other work (docs/notes/jam_speed.md); a run stays bit for bit the same for
+// a given thread count.
 #include <omp.h>
 
 #include <cstdlib>
-#include <string>
 
 namespace mrjam {
 
