@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "asteroid/asteroid_outcome.hpp"
+#include "asteroid/grain_material.hpp"
 #include "asteroid/heap_profile.hpp"
 #include "io/checkpoint.hpp"
 #include "io/svg_plot.hpp"
@@ -26,18 +27,10 @@ nlohmann::json wall(const char* name, const nlohmann::json& point, const nlohman
 // packed behind the gate, gravity, the field switched on after the settling, and the stages.
 nlohmann::json avalanche_engine_scene(const AvalancheSpec& s) {
     const double d = s.diameter, L = s.length * d, W = s.width * d, H = s.height * d, gate = s.gate * d;
-    nlohmann::json material = {{"name", "grain"},
-                               {"density", s.density},
-                               {"youngs_modulus", s.youngs_modulus},
-                               {"poisson_ratio", s.poisson_ratio},
-                               {"restitution", s.restitution},
-                               {"friction", s.friction},
-                               {"rolling_friction", s.rolling_friction},
-                               {"rolling_stiffness", s.rolling_stiffness},
-                               {"rolling_viscous", s.rolling_viscous},
-                               {"cohesion_energy_density", s.cohesion_energy_density},
-                               {"relative_permeability", s.relative_permeability},
-                               {"saturation_magnetisation", s.saturation_magnetisation}};
+    nlohmann::json material = grain_material_json("grain", s.material);
+    material["cohesion_energy_density"] = s.cohesion_energy_density;
+    material["relative_permeability"] = s.relative_permeability;
+    material["saturation_magnetisation"] = s.saturation_magnetisation;
     nlohmann::json j = {
         {"mode", kMode},
         {"seed", s.seed},
@@ -45,7 +38,7 @@ nlohmann::json avalanche_engine_scene(const AvalancheSpec& s) {
         {"materials", {material}},
         {"contact",
          {{"model", "hertz_mindlin"},
-          {"rolling", s.rolling_friction > 0 ? "sds" : "none"},
+          {"rolling", s.material.rolling_friction > 0 ? "sds" : "none"},
           {"cohesion", s.cohesion_energy_density > 0 ? "sjkr" : "none"}}},
         {"gravity", {0.0, 0.0, -s.gravity}},
         {"walls",

@@ -10,17 +10,7 @@ namespace mrjam {
 namespace {
 
 void read_material(SceneNode node, AvalancheSpec& s) {
-    s.density = node.quantity("density", units::density, std::nullopt, Bounds::closed(1, 1e5));
-    s.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::closed(1e3, 1e13));
-    s.poisson_ratio = node.number("poisson_ratio", 0.278, Bounds::closed(-0.99, 0.5));
-    s.restitution = node.number("restitution", 0.2, Bounds::open_closed(0, 1));
-    s.friction = node.number("friction", 0.6, Bounds::closed(0, 10));
-    s.rolling_friction = node.number("rolling_friction", 0, Bounds::closed(0, 10));
-    s.rolling_stiffness = node.quantity("rolling_stiffness", units::stiffness, 0.0, Bounds::non_negative());
-    s.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
-    if ((s.rolling_friction > 0) != (s.rolling_stiffness > 0))
-        node.fail("rolling_stiffness",
-                  "SDS rolling resistance needs both rolling_friction and rolling_stiffness (or neither)");
+    s.material = read_grain_material(node, {0.278, 0.2, 0.6});
     s.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::closed(0, 1e9));
     s.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1, 1e7));
     s.saturation_magnetisation =
@@ -78,7 +68,9 @@ AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string
     grains.finish();
     s.gravity = root.quantity("gravity", units::acceleration, std::nullopt, Bounds::positive());
     s.field = root.quantity("field", units::magnetic_flux_density, std::nullopt, Bounds::closed(0, 10));
-    s.mutual_dipoles = root.choice("dipoles", {"fixed", "mutual"}, "fixed") == "mutual";
+    // Mutual by default, as the source's LAMMPS module: the neighbours' fields in each moment
+    // (lagged, under-relaxed: plain Jacobi diverged in the settled packing, docs/asteroid.md).
+    s.mutual_dipoles = root.choice("dipoles", {"fixed", "mutual"}, "mutual") == "mutual";
     json none = json::object();
     auto optional = [&](const char* key) {
         if (auto node = root.optional_object(key)) return *node;

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "asteroid/grain_material.hpp"
+
 namespace mrjam {
 
 struct AvalancheSpec {
@@ -15,16 +17,15 @@ struct AvalancheSpec {
     std::uint64_t seed = 1;
     double diameter = 0;  // m, one size
     // Material (Table 4.5's grains for the examples' values).
-    double density = 0, youngs_modulus = 0, poisson_ratio = 0.278, restitution = 0.2, friction = 0.6;
-    double rolling_friction = 0, rolling_stiffness = 0, rolling_viscous = 0;  // SDS
-    double cohesion_energy_density = 0;                                       // SJKR, J/m3
+    GrainMaterial material;              // Table 4.5's grains by default (avalanche_spec.cpp)
+    double cohesion_energy_density = 0;  // SJKR, J/m3
     double relative_permeability = 1000, saturation_magnetisation = 1.7e6;
     // The cell, in grain diameters: x the run-out, y periodic, z up.
     double length = 0, width = 0, height = 0, gate = 0, fill_height = 0;
-    double fill_fraction = 0.5;   // of the random packing behind the gate before it settles
-    double gravity = 0;           // m/s2, along -z
-    double field = 0;             // T, along z (parallel to gravity, as the source)
-    bool mutual_dipoles = false;  // the neighbours' fields in each moment (lagged), or the applied field only
+    double fill_fraction = 0.5;  // of the random packing behind the gate before it settles
+    double gravity = 0;          // m/s2, along -z
+    double field = 0;            // T, along z (parallel to gravity, as the source)
+    bool mutual_dipoles = true;  // the neighbours' fields in each moment (lagged), or the applied field only
     double settle_time = 0, magnetise_time = 0, runout_time = 0;  // s; the run-out ends at rest sooner
     double rest_speed = 0;                                        // m/s, rms speed that counts as at rest
     double timestep_safety = 0.1;

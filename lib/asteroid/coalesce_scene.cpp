@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "asteroid/cloud.hpp"
+#include "asteroid/grain_material.hpp"
 #include "gravity/self_gravity.hpp"
 
 namespace mrjam {
@@ -21,17 +22,9 @@ CloudLayout lay_out_cloud(const CoalesceSpec& s) {
 namespace {
 
 nlohmann::json material_json(const char* name, const RubbleMaterial& m, double magnetisation) {
-    nlohmann::json j = {{"name", name},
-                        {"density", m.density},
-                        {"youngs_modulus", m.youngs_modulus},
-                        {"poisson_ratio", m.poisson_ratio},
-                        {"restitution", m.restitution},
-                        {"friction", m.friction},
-                        {"rolling_friction", m.rolling_friction},
-                        {"rolling_stiffness", m.rolling_stiffness},
-                        {"rolling_viscous", m.rolling_viscous},
-                        {"surface_energy", m.surface_energy},
-                        {"relative_permeability", 1.0}};  // rubble: permanent moments only, none induced
+    nlohmann::json j = grain_material_json(name, m);
+    j["surface_energy"] = m.surface_energy;
+    j["relative_permeability"] = 1.0;  // rubble: permanent moments only, none induced
     if (magnetisation > 0) {
         j["remanent_magnetisation"] = magnetisation;
         j["remanence_direction"] = "random";

@@ -14,17 +14,7 @@ constexpr double kSourceTemperaturePerDiameterCubed = 8e20;  // K/m3, section 4.
 
 RubbleMaterial read_material(SceneNode node) {
     RubbleMaterial m;
-    m.density = node.quantity("density", units::density, std::nullopt, Bounds::closed(1, 1e5));
-    m.youngs_modulus = node.quantity("youngs_modulus", units::pressure, std::nullopt, Bounds::closed(1e3, 1e13));
-    m.poisson_ratio = node.number("poisson_ratio", 0.3, Bounds::closed(-0.99, 0.5));
-    m.restitution = node.number("restitution", 0.1, Bounds::open_closed(0, 1));
-    m.friction = node.number("friction", 0.4, Bounds::closed(0, 10));
-    m.rolling_friction = node.number("rolling_friction", 0, Bounds::closed(0, 10));
-    m.rolling_stiffness = node.quantity("rolling_stiffness", units::stiffness, 0.0, Bounds::non_negative());
-    m.rolling_viscous = node.quantity("rolling_viscous", units::damping, 0.0, Bounds::non_negative());
-    if ((m.rolling_friction > 0) != (m.rolling_stiffness > 0))
-        node.fail("rolling_stiffness",
-                  "SDS rolling resistance needs both rolling_friction and rolling_stiffness (or neither)");
+    static_cast<GrainMaterial&>(m) = read_grain_material(node, {0.3, 0.1, 0.4});
     m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::closed(0, 1e3));
     // Iron's saturation bounds any remanence (1.7 MA/m).
     m.magnetisation = node.quantity("magnetisation", units::magnetic_field, 0.0, Bounds::closed(0, 1.7e6));

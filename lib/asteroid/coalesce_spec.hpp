@@ -8,20 +8,14 @@
 #include <optional>
 #include <string>
 
+#include "asteroid/grain_material.hpp"
+
 namespace mrjam {
 
 // A grain's material (Table 4.1 of the source for the defaults the examples state).
-struct RubbleMaterial {
-    double density = 0;          // kg/m3
-    double youngs_modulus = 0;   // Pa
-    double poisson_ratio = 0.3;  //
-    double restitution = 0.1;
-    double friction = 0.4;
-    double rolling_friction = 0;   // SDS mu_roll
-    double rolling_stiffness = 0;  // SDS k_roll, N/m
-    double rolling_viscous = 0;    // SDS gamma_roll, N s/m
-    double surface_energy = 0;     // DMT gamma, J/m2
-    double magnetisation = 0;      // A/m, permanent, in a random direction per grain
+struct RubbleMaterial : GrainMaterial {
+    double surface_energy = 0;  // DMT gamma, J/m2
+    double magnetisation = 0;   // A/m, permanent, in a random direction per grain
 };
 
 struct CoalesceSpec {

@@ -226,6 +226,13 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     if (converged || node.has("tolerance")) st.tolerance = node.number("tolerance", 1e-6, Bounds::open(0.0, 1.0));
     if (converged || node.has("max_iterations"))
         st.max_iterations = static_cast<int>(node.integer("max_iterations", 500, 1, 100000));
+    // The mutual update's under-relaxation (lib/engine/magnetic/magnetic_model.cpp says why 2/3):
+    // unused by fixed dipoles, so refused there in a new scene like the other policies' keys.
+    if (policy != "fixed" || node.has("relaxation")) {
+        if (policy == "fixed" && options.insert_grains)
+            node.fail("relaxation", "relaxes the mutual-dipole update; \"mutual\": \"fixed\" has none: drop it");
+        st.relaxation = node.number("relaxation", 2.0 / 3.0, Bounds::open_closed(0.0, 1.0));
+    }
     mag.hold.interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto close = node.optional_object("close_pairs")) read_close_pairs(*close, st.close_pairs);
     if (auto cut = node.optional_object("cutoff")) {

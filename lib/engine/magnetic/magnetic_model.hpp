@@ -52,7 +52,10 @@ struct MagneticSettings {
     int iterations = 1;        // for `iterations`
     double tolerance = 1e-6;   // for `converged`: max |dm| / max |m|
     int max_iterations = 500;  // for `converged`
-    double cutoff_scale = 0;   // range = scale (R_i + R_j) + extra
+    // The mutual update's under-relaxation omega (0, 1]: the induced moments move this share of
+    // the way to their Jacobi target per update (magnetic_model.cpp says why 2/3).
+    double relaxation = 2.0 / 3.0;
+    double cutoff_scale = 0;  // range = scale (R_i + R_j) + extra
     double cutoff_extra = 0;
     // The two-body correction for close pairs (off: point dipoles only, as the source).
     ClosePairSettings close_pairs;
