@@ -2,9 +2,10 @@
 # Installs everything mrjam needs from Debian's packages (run as root on a fresh machine).
 set -euo pipefail
 # libgmsh-dev (meshing, C++ API) and getdp (solver, run as a program) serve `mrjam magnetics`;
+# librsvg2-dev renders the plots' PNG twins (with DejaVu for their text);
 # Open MPI serves `mpirun -np N mrjam sweep` (a build without it still sweeps in one process).
 packages=(build-essential cmake libeigen3-dev libpng-dev libcli11-dev nlohmann-json3-dev doctest-dev libgmsh-dev getdp
-          libopenmpi-dev openmpi-bin)
+          libopenmpi-dev openmpi-bin librsvg2-dev fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 if [ ${#missing[@]} -gt 0 ]; then

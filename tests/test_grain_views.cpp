@@ -47,6 +47,7 @@ TEST_SUITE("unit") {
         const std::string path = dir.file("views.svg");
         mrjam::write_grain_views(path, g);
         const std::string svg = mrjam_test::slurp(path);
+        CHECK(mrjam_test::slurp(dir.file("views.png")).rfind("\x89PNG", 0) == 0);
         const std::vector<Disc> d = discs(svg);
         REQUIRE(d.size() == 6);  // every grain in each panel
         // Panel 1 (seen from +z) paints in increasing z: the z = 31 grain last. Its colour is the

@@ -10,6 +10,7 @@
 
 #include "io/png_image.hpp"
 #include "io/svg_plot.hpp"
+#include "io/svg_raster.hpp"
 
 namespace mrjam {
 namespace {
@@ -124,9 +125,12 @@ void write_grain_views(const std::string& path, const GrainViews& g) {
     draw_panel(svg, g, across, half, reach);
     draw_colour_bar(svg, across.left + kPanel + 14, reach > 0 ? reach : 1.0);
     svg << "</svg>\n";
-    std::ofstream out(path);
-    out << svg.str();
-    if (!out) throw std::runtime_error("cannot write " + path);
+    {
+        std::ofstream out(path);
+        out << svg.str();
+        if (!out) throw std::runtime_error("cannot write " + path);
+    }
+    write_png_from_svg(svg.str(), png_twin(path), 1.0);
 }
 
 }  // namespace mrjam

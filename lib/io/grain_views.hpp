@@ -1,7 +1,8 @@
 #pragma once
 // Pictures of a body of grains: orthographic views along and across an axis, each grain a disc
 // painted far to near, coloured by its distance from a centre (viridis) with a colour bar in
-// metres and a scale bar, as an SVG a person can open in a browser.
+// metres and a scale bar, as an SVG a person can open in a browser and its PNG twin
+// (io/svg_raster.hpp).
 #include <string>
 #include <vector>
 

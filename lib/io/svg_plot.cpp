@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/svg_raster.hpp"
+
 namespace mrjam {
 
 std::string svg_escape(const std::string& s) {
@@ -89,6 +91,10 @@ std::pair<double, double> bar(const PlotSeries& s, std::size_t k) {
 
 }  // namespace
 
+std::string png_twin(const std::string& svg_path) {
+    return std::filesystem::path(svg_path).replace_extension(".png").string();
+}
+
 void write_svg(const std::string& path, const Plot& plot) {
     const double W = 720, H = 480, left = 80, right = 200, top = 40, bottom = 60;
     double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
@@ -166,9 +172,12 @@ void write_svg(const std::string& path, const Plot& plot) {
     o << "</svg>\n";
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error("cannot write " + path);
-    f << o.str();
+    {
+        std::ofstream f(path);
+        if (!f) throw std::runtime_error("cannot write " + path);
+        f << o.str();
+    }
+    write_png_from_svg(o.str(), png_twin(path));
 }
 
 }  // namespace mrjam

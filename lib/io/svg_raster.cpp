@@ -1,0 +1,54 @@
+#include "io/svg_raster.hpp"
+
+#include <cairo.h>
+#include <librsvg/rsvg.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+namespace mrjam {
+
+namespace {
+
+struct HandleFree {
+    void operator()(RsvgHandle* h) const { g_object_unref(h); }
+};
+struct SurfaceFree {
+    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+};
+struct ContextFree {
+    void operator()(cairo_t* c) const { cairo_destroy(c); }
+};
+
+// librsvg's GError as an exception naming the file.
+[[noreturn]] void fail(const std::string& png_path, const char* what, GError* error) {
+    const std::string message = error ? error->message : "unknown error";
+    if (error) g_error_free(error);
+    throw std::runtime_error("cannot render " + png_path + ": " + what + ": " + message);
+}
+
+}  // namespace
+
+void write_png_from_svg(const std::string& svg, const std::string& png_path, double scale) {
+    GError* error = nullptr;
+    std::unique_ptr<RsvgHandle, HandleFree> handle(
+        rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(svg.data()), svg.size(), &error));
+    if (!handle) fail(png_path, "the SVG does not parse", error);
+    double width = 0, height = 0;
+    if (!rsvg_handle_get_intrinsic_size_in_pixels(handle.get(), &width, &height) || width <= 0 || height <= 0)
+        throw std::runtime_error("cannot render " + png_path + ": the SVG has no width and height in pixels");
+    const int w = static_cast<int>(std::ceil(width * scale)), h = static_cast<int>(std::ceil(height * scale));
+    std::unique_ptr<cairo_surface_t, SurfaceFree> surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h));
+    std::unique_ptr<cairo_t, ContextFree> cr(cairo_create(surface.get()));
+    cairo_set_source_rgb(cr.get(), 1, 1, 1);  // white under a transparent SVG
+    cairo_paint(cr.get());
+    const RsvgRectangle viewport{0, 0, static_cast<double>(w), static_cast<double>(h)};
+    if (!rsvg_handle_render_document(handle.get(), cr.get(), &viewport, &error)) fail(png_path, "librsvg", error);
+    cairo_surface_flush(surface.get());
+    const cairo_status_t status = cairo_surface_write_to_png(surface.get(), png_path.c_str());
+    if (status != CAIRO_STATUS_SUCCESS)
+        throw std::runtime_error("cannot write " + png_path + ": " + cairo_status_to_string(status));
+}
+
+}  // namespace mrjam
