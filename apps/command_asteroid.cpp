@@ -77,7 +77,7 @@ void print_simulation_summary(const std::string& mode, const nlohmann::json& r) 
         const nlohmann::json& a = r["results"]["avalanche"];
         auto angle = [&](const char* key) {
             const nlohmann::json& v = a[key]["angle_deg"];
-            return v.is_null() ? std::string("no fit") : format_number(v.get<double>(), 3) + " deg";
+            return v.is_null() ? std::string("not found") : format_number(v.get<double>(), 3) + " deg";
         };
         std::cerr << "[asteroid] angle of repose " << angle("angle_of_repose") << " (upper " << angle("upper_slope")
                   << ", lower " << angle("lower_slope") << "), heap "

@@ -58,6 +58,14 @@ TEST_SUITE("unit") {
         CHECK(std::fabs(h.upper.angle_deg - 35.0) < 0.5);
         CHECK(std::fabs(h.lower.angle_deg - 35.0) < 0.5);
         CHECK(h.peak == rel(0.5).epsilon(1e-9));
+        // The chords (the reported angles) on the same face: the plateau behind the gate is 0.5 m,
+        // and every crossing sits the same part of a bin's drop off the line.
+        CHECK(h.plateau == rel(0.5).epsilon(1e-9));
+        REQUIRE(h.face.found);
+        CHECK(std::fabs(h.face.angle_deg - 35.0) < 0.2);
+        CHECK(std::fabs(h.face_upper.angle_deg - 35.0) < 0.5);
+        CHECK(std::fabs(h.face_lower.angle_deg - 35.0) < 0.5);
+        CHECK(h.face.x_low == rel(0.4 + 0.45 / tan35).epsilon(0.02));
         // Volume: 0.4 x 0.5 plus the triangle 0.5 x 0.5 / tan35 / 2, times the width 0.1, within a bin.
         CHECK(h.volume == rel(0.1 * (0.2 + 0.125 / tan35)).epsilon(0.02));
         CHECK(h.runout == rel(toe - 0.3).epsilon(0.01));
@@ -97,6 +105,26 @@ TEST_SUITE("unit") {
         CHECK(std::fabs(h.lower.angle_deg - 30.0) < 1.0);
         CHECK(h.slope.angle_deg > 30.0);  // one line through both lies between them
         CHECK(h.slope.angle_deg < 50.0);
+        // The chords: 90-50 % of the plateau on the 50 degree part, 50-10 % on the 30 degree part.
+        CHECK(std::fabs(h.face_upper.angle_deg - 50.0) < 1.0);
+        CHECK(std::fabs(h.face_lower.angle_deg - 30.0) < 1.0);
+        CHECK(h.face.angle_deg > 30.0);
+        CHECK(h.face.angle_deg < 50.0);
+    }
+
+    TEST_CASE(
+        "heap profile: a heap that ends in a cliff reads steep; the fits, which see no bin on the face, have none") {
+        // A magnetised column that hardly ran out: 0.5 m high to x = 0.4 m, then a vertical face.
+        const auto z = [](double x) { return x < 0.4 ? 0.5 : 0.0; };
+        const Particles p = surface_grains(0.002, 0.4, z);
+        const HeapProfile h = measure_heap(p, 2.0, 0.1, 0.3, 0.01);
+        REQUIRE(h.face.found);
+        // Both crossings fall between the last full bin and the first empty one, 1 cm apart:
+        // 0.4 m of drop over 0.8 cm.
+        CHECK(h.face.angle_deg > 85.0);
+        CHECK(h.face.x_high == rel(0.396).epsilon(0.01));
+        CHECK(h.face.x_low == rel(0.404).epsilon(0.01));
+        CHECK(h.slope.points < 3);
     }
 
     TEST_CASE("avalanche scene: the field is required, the cell must hold the dipoles' reach, the gate the cell") {

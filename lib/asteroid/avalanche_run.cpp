@@ -38,7 +38,7 @@ nlohmann::json avalanche_engine_scene(const AvalancheSpec& s) {
         {"materials", {material}},
         {"contact",
          {{"model", "hertz_mindlin"},
-          {"rolling", s.material.rolling_friction > 0 ? "sds" : "none"},
+          {"rolling", s.material.engine_rolling()},
           {"cohesion", s.cohesion_energy_density > 0 ? "sjkr" : "none"}}},
         {"gravity", {0.0, 0.0, -s.gravity}},
         {"walls",
@@ -168,22 +168,20 @@ void Avalanche::write_plot(const std::string& path, const HeapProfile& heap) con
     surface.x = heap.x;
     surface.y = heap.height;
     plot.series.push_back(surface);
-    auto fit_line = [&](const SlopeFit& f, double lo, double hi, const char* label, const char* colour) {
-        if (f.points < 3 || f.slope == 0) return;
+    auto chord_line = [&](const FaceChord& c, const char* label, const char* colour, bool dashed) {
+        if (!c.found) return;
         PlotSeries line;
-        line.label = std::string(label) + ": " + std::to_string(f.angle_deg).substr(0, 4) + " deg";
+        line.label = std::string(label) + ": " + std::to_string(c.angle_deg).substr(0, 4) + " deg";
         line.colour = colour;
         line.line = true;
-        line.dashed = true;
-        for (double z : {lo * heap.peak, hi * heap.peak}) {
-            line.x.push_back((z - f.intercept) / f.slope);
-            line.y.push_back(z);
-        }
+        line.dashed = dashed;
+        line.x = {c.x_high, c.x_low};
+        line.y = {c.z_high, c.z_low};
         plot.series.push_back(line);
     };
-    fit_line(heap.slope, 0.1, 0.9, "fit, 10-90 % of the peak", "#d62728");
-    fit_line(heap.upper, 0.5, 0.9, "upper half", "#ff7f0e");
-    fit_line(heap.lower, 0.1, 0.5, "lower half", "#2ca02c");
+    chord_line(heap.face, "angle of repose, 90-10 % of the plateau", "#d62728", false);
+    chord_line(heap.face_upper, "upper, 90-50 %", "#ff7f0e", true);
+    chord_line(heap.face_lower, "lower, 50-10 %", "#2ca02c", true);
     write_svg(path, plot);
 }
 

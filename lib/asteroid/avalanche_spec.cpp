@@ -10,7 +10,7 @@ namespace mrjam {
 namespace {
 
 void read_material(SceneNode node, AvalancheSpec& s) {
-    s.material = read_grain_material(node, {0.278, 0.2, 0.6});
+    s.material = read_grain_material(node, {0.278, 0.2, 0.6, "epsd"});
     s.cohesion_energy_density = node.quantity("cohesion_energy_density", units::pressure, 0.0, Bounds::closed(0, 1e9));
     s.relative_permeability = node.number("relative_permeability", 1000.0, Bounds::closed(1, 1e7));
     s.saturation_magnetisation =

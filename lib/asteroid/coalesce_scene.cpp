@@ -56,7 +56,7 @@ nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& l
                         {"materials", {material_json("rubble", s.material, s.material.magnetisation)}},
                         {"contact",
                          {{"model", "hertz_mindlin"},
-                          {"rolling", s.material.rolling_friction > 0 ? "sds" : "none"},
+                          {"rolling", s.material.engine_rolling()},
                           {"cohesion", s.material.surface_energy > 0 ? "dmt" : "none"}}},
                         {"self_gravity",
                          {{"method", s.direct_gravity ? "direct" : "tree"},

@@ -14,7 +14,7 @@ constexpr double kSourceTemperaturePerDiameterCubed = 8e20;  // K/m3, section 4.
 
 RubbleMaterial read_material(SceneNode node) {
     RubbleMaterial m;
-    static_cast<GrainMaterial&>(m) = read_grain_material(node, {0.3, 0.1, 0.4});
+    static_cast<GrainMaterial&>(m) = read_grain_material(node, {0.3, 0.1, 0.4, "sds"});
     m.surface_energy = node.quantity("surface_energy", units::surface_energy, 0.0, Bounds::closed(0, 1e3));
     // Iron's saturation bounds any remanence (1.7 MA/m).
     m.magnetisation = node.quantity("magnetisation", units::magnetic_field, 0.0, Bounds::closed(0, 1.7e6));

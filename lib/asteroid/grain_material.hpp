@@ -3,6 +3,7 @@
 // keeps its own defaults (the avalanche's Table 4.5 grains, the cloud's section 4.2 ones) and
 // adds what only it has (cohesion and permeability, or surface energy and remanence).
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace mrjam {
 
@@ -14,19 +15,28 @@ struct GrainMaterial {
     double poisson_ratio = 0.3;
     double restitution = 0.1;
     double friction = 0.4;
-    double rolling_friction = 0;   // SDS mu_roll
+    // Rolling resistance: "sds" (LAMMPS's spring-dashpot-slider, the source's coalescence and
+    // spin-up, section 4.2) or "epsd" (LIGGGHTS's elastic-plastic spring-dashpot, its avalanches,
+    // section 4.4.1.1); none while rolling_friction is 0.
+    std::string rolling_model = "sds";
+    double rolling_friction = 0;   // mu_roll (both models: torque at most mu_roll R* |F_n|)
     double rolling_stiffness = 0;  // SDS k_roll, N/m
     double rolling_viscous = 0;    // SDS gamma_roll, N s/m
+    double rolling_damping = 0;    // EPSD viscous damping ratio eta_r (its stiffness is 2.25 k_n mu_r^2 R*^2)
+
+    std::string engine_rolling() const { return rolling_friction > 0 ? rolling_model : "none"; }
 };
 
 // A mode's defaults for the keys a scene may leave out.
 struct GrainMaterialDefaults {
     double poisson_ratio, restitution, friction;
+    const char* rolling_model;  // the source's model for this mode
 };
 
-// Reads density and Young's modulus (required), the elastic and frictional keys and the SDS
-// rolling resistance (both its friction and its stiffness, or neither) from a scene's
-// grains/material block; the caller reads its own keys and finishes the node.
+// Reads density and Young's modulus (required), the elastic and frictional keys and the rolling
+// resistance (`rolling_model`; SDS: rolling_friction with rolling_stiffness, or neither, and
+// rolling_viscous; EPSD: rolling_friction and rolling_damping) from a scene's grains/material
+// block; the caller reads its own keys and finishes the node.
 GrainMaterial read_grain_material(SceneNode& node, const GrainMaterialDefaults& defaults);
 
 // The engine scene's material entry for these keys, under `name`; the caller adds its own.
