@@ -6,6 +6,7 @@
 #include "asteroid/asteroid_outcome.hpp"
 #include "asteroid/grain_material.hpp"
 #include "asteroid/heap_profile.hpp"
+#include "core/format.hpp"
 #include "io/checkpoint.hpp"
 #include "io/svg_plot.hpp"
 #include "run/interrupt.hpp"
@@ -160,7 +161,7 @@ private:
 
 void Avalanche::write_plot(const std::string& path, const HeapProfile& heap) const {
     Plot plot;
-    plot.title = "Heap side profile (" + std::to_string(spec_.field * 1e3).substr(0, 5) + " mT)";
+    plot.title = "Heap side profile, " + format_number(spec_.field * 1e3, 3) + " mT (height exaggerated)";
     plot.x_label = "distance from the back wall (m)";
     plot.y_label = "surface height (m)";
     PlotSeries surface;

@@ -96,7 +96,12 @@ std::string png_twin(const std::string& svg_path) {
 }
 
 void write_svg(const std::string& path, const Plot& plot) {
-    const double W = 720, H = 480, left = 80, right = 200, top = 40, bottom = 60;
+    // The legend sits right of the frame; the canvas widens for long labels (about 7 units a
+    // character at 12 px sans-serif) instead of cutting them off.
+    std::size_t longest = 0;
+    for (const auto& s : plot.series) longest = std::max(longest, s.label.size());
+    const double H = 480, left = 80, top = 40, bottom = 60, pw = 440;
+    const double right = std::max(200.0, 51.0 + 7.0 * static_cast<double>(longest)), W = left + pw + right;
     double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
     const Axis xprobe{plot.log_x}, yprobe{plot.log_y};
     for (const auto& s : plot.series)
@@ -110,7 +115,7 @@ void write_svg(const std::string& path, const Plot& plot) {
         }
     const Axis xa = make_axis(plot.log_x, xmin, xmax, true, false);
     const Axis ya = make_axis(plot.log_y, ymin, ymax, plot.y_from_zero, true);
-    const double pw = W - left - right, ph = H - top - bottom;
+    const double ph = H - top - bottom;
     auto X = [&](double x) { return left + (xa.plotted(x) - xa.lo) / (xa.hi - xa.lo) * pw; };
     auto Y = [&](double y) { return top + ph - (ya.plotted(y) - ya.lo) / (ya.hi - ya.lo) * ph; };
     auto XT = [&](double t) { return left + (t - xa.lo) / (xa.hi - xa.lo) * pw; };
