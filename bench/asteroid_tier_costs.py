@@ -20,6 +20,7 @@ import sys
 import tempfile
 import time
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = [("coalesce", "examples/asteroid/coalesce_119Am.json"),
           ("spinup", "examples/asteroid/spinup_119Am.json"),
           ("avalanche", "examples/asteroid/avalanche_5mT.json")]
@@ -28,7 +29,7 @@ PROGRESS = re.compile(r"step (\d+)/(\d+) \(([\d.]+)% of the run\).*?([\d.e+]+) g
 
 def probe(binary, mode, scene, tier, seconds, work):
     out = os.path.join(work, f"{mode}_{tier}")
-    with open(scene) as f:
+    with open(os.path.join(ROOT, scene)) as f:
         s = json.load(f)
     s["output"] = {"directory": out}
     path = out + ".json"
@@ -54,7 +55,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--tiers", nargs="+", default=["standard", "paper"])
     ap.add_argument("--probe", type=float, default=90, help="seconds of each run to measure")
-    ap.add_argument("--binary", default="build/mrjam")
+    ap.add_argument("--binary", default=os.path.join(ROOT, "build", "mrjam"))
     a = ap.parse_args()
     print("| mode | tier | grain-steps/s (1 thread) | share of the run in the probe | whole run, extrapolated |")
     print("|---|---|---|---|---|")
