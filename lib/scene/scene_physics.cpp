@@ -233,7 +233,6 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
             node.fail("relaxation", "relaxes the mutual-dipole update; \"mutual\": \"fixed\" has none: drop it");
         st.relaxation = node.number("relaxation", 2.0 / 3.0, Bounds::open_closed(0.0, 1.0));
     }
-    st.clamp_at_contact = node.choice("overlapping_pairs", {"at_contact", "at_centres"}, "at_contact") == "at_contact";
     mag.hold.interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto close = node.optional_object("close_pairs")) read_close_pairs(*close, st.close_pairs);
     if (auto cut = node.optional_object("cutoff")) {

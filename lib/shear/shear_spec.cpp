@@ -148,7 +148,7 @@ void read_magnetic_block(SceneNode m, const ShearTier& tier, ShearSpec& s) {
     // Passed to the engine as they are (the engine's reader checks them, naming /magnetic/...):
     // the close-pair correction lets the calibration measure the same magnetic model the jam
     // predictor runs with `model/close_pairs_min_gap`.
-    for (const char* k : {"iterations", "tolerance", "max_iterations", "close_pairs", "overlapping_pairs"})
+    for (const char* k : {"iterations", "tolerance", "max_iterations", "close_pairs"})
         if (m.has(k)) s.magnetic[k] = m.raw(k);
     // "material": induced moments saturate at the material's M_s (iron 1.7e6 A/m);
     // "none": the linear law of eq. 2.4 without a cap, the source's chapter-2 model.

@@ -51,23 +51,15 @@ void pair_pass(MagneticModel& model, Particles& p, int threads, Buffers& b, std:
         const std::uint32_t* __restrict partners = list.partners.data();
         const std::uint8_t* __restrict image = list.image.data();
         const double* __restrict range_sq = list.range_sq.data();
-        const double* __restrict radius = p.radius.data();
-        const bool clamp = model.settings.clamp_at_contact;
         const std::size_t begin = n * tid / nt, end = n * (tid + 1) / nt;
         for (std::size_t i = begin; i < end; ++i) {
             const Vec3 xi = x[i], mi = m[i];
             Vec3 hi{}, fi{}, ti{};
             for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
                 const std::uint32_t j = partners[k];
-                Vec3 d = xi - x[j] + list.image_shift(image[k]);
-                double r2 = norm2(d);
+                const Vec3 d = xi - x[j] + list.image_shift(image[k]);
+                const double r2 = norm2(d);
                 if (r2 >= range_sq[k]) continue;
-                // An overlapping pair interacts as if touching, along the same line (settings say why).
-                const double touching = radius[i] + radius[j];
-                if (clamp && r2 < touching * touching && r2 > 0) {
-                    d *= touching / std::sqrt(r2);
-                    r2 = touching * touching;
-                }
                 // Written in the unnormalised separation d so the dot products do not wait for
                 // the square root: rhat = d / r, m.rhat = (m.d) / r.
                 const double inv_r2 = 1.0 / r2;

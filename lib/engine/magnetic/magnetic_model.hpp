@@ -55,12 +55,6 @@ struct MagneticSettings {
     // The mutual update's under-relaxation omega (0, 1]: the induced moments move this share of
     // the way to their Jacobi target per update (magnetic_model.cpp says why 2/3).
     double relaxation = 2.0 / 3.0;
-    // Overlapping grains' dipoles interact at their contact distance R_i + R_j (true) or at their
-    // centres' (false, the source's). The overlap of a soft-sphere contact stands for a deformation
-    // that grains of a softened modulus exaggerate: evaluated at the centres, the linear dipoles'
-    // pull grows with the overlap faster than the Hertz force (mutual moments, 1 / r^4) and above
-    // a threshold field two unequal grains collapse into each other (33:67 at 1 GPa and 490 mT).
-    bool clamp_at_contact = true;
     double cutoff_scale = 0;  // range = scale (R_i + R_j) + extra
     double cutoff_extra = 0;
     // The two-body correction for close pairs (off: point dipoles only, as the source).
