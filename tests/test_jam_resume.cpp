@@ -11,6 +11,9 @@
 #include <tuple>
 #include <utility>
 
+#include "core/machine_threads.hpp"
+#include "jam/jam_campaign.hpp"
+#include "run/interrupt.hpp"
 #include "test_support.hpp"
 
 using namespace mrjam_test;
@@ -50,16 +53,16 @@ json tiny_scene(const std::string& out, long checkpoint_every, bool closed_first
 
 Result jam(const TempDir& dir, const std::string& name, const json& scene, const std::string& extra) {
     write_text(dir.file(name + ".json"), scene.dump());
-    return mrjam(dir, "jam " + quote(dir.file(name + ".json")) + " --report " + quote(dir.file(name + "_report.json")) +
-                          " --fidelity quick --quiet " + extra);
+    return mrjam_test::mrjam(dir, "jam " + quote(dir.file(name + ".json")) + " --report " +
+                                      quote(dir.file(name + "_report.json")) + " --fidelity quick --quiet " + extra);
 }
 
 // Resumes run NAME from the checkpoint it left in out_NAME and returns the resumed run's report.
 json resumed_report(const TempDir& dir, const std::string& name) {
     const std::string ck = dir.file("out_" + name + "/checkpoint.mrjam");
     REQUIRE(fs::exists(ck));
-    const Result resumed =
-        mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
+    const Result resumed = mrjam_test::mrjam(
+        dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file(name + "_resumed.json")) + " --quiet");
     CAPTURE(resumed.err);
     REQUIRE(resumed.exit_code == 0);
     return json::parse(slurp(dir.file(name + "_resumed.json")));
@@ -177,18 +180,18 @@ TEST_SUITE("cli") {
             // `mrjam run` would continue the engine without the protocol: it points to jam instead;
             // and a resume cannot change the tier or the seeds it was started with.
             if (c.phase == "flow") {
-                const Result reseeded = mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
+                const Result reseeded = mrjam_test::mrjam(dir, "jam --resume " + quote(ck) + " --seeds 3 --quiet");
                 CHECK(reseeded.exit_code == 2);
                 CHECK(reseeded.err.find("--seeds") != std::string::npos);
-                const Result run =
-                    mrjam(dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
+                const Result run = mrjam_test::mrjam(
+                    dir, "run --resume " + quote(ck) + " --report " + quote(dir.file("run.json")) + " --quiet");
                 CHECK(run.exit_code == 2);
                 CHECK(run.err.find("mrjam jam --resume") != std::string::npos);
             }
         }
         // Not a jam checkpoint: refused naming --resume.
         write_text(dir.file("not.mrjam"), "nothing");
-        const Result bad = mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
+        const Result bad = mrjam_test::mrjam(dir, "jam --resume " + quote(dir.file("not.mrjam")) + " --quiet");
         CHECK(bad.exit_code == 2);
         CHECK(bad.err.find("--resume") != std::string::npos);
     }
@@ -264,8 +267,8 @@ TEST_SUITE("cli") {
         REQUIRE(cut.exit_code == 0);
         const std::string ck = dir.file("out_cut/checkpoint.mrjam");
         REQUIRE(fs::exists(ck));
-        const Result resumed =
-            mrjam(dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file("resumed.json")) + " --quiet");
+        const Result resumed = mrjam_test::mrjam(
+            dir, "jam --resume " + quote(ck) + " --report " + quote(dir.file("resumed.json")) + " --quiet");
         CAPTURE(resumed.err);
         REQUIRE(resumed.exit_code == 0);
         const json b = json::parse(slurp(dir.file("resumed.json")));
@@ -488,12 +491,50 @@ TEST_SUITE("cli") {
         bytes.erase(velocities + 8, 24 * 100);
         mrjam_test::reseal_checkpoint(bytes);  // past the checksum, to the arrays' own check
         write_text(dir.file("damaged.mrjam"), bytes);
-        const Result r = mrjam(dir, "jam --resume " + quote(dir.file("damaged.mrjam")) + " --report " +
-                                        quote(dir.file("damaged_report.json")) + " --quiet");
+        const Result r = mrjam_test::mrjam(dir, "jam --resume " + quote(dir.file("damaged.mrjam")) + " --report " +
+                                                    quote(dir.file("damaged_report.json")) + " --quiet");
         CAPTURE(r.err);
         CHECK(r.exit_code == 2);
         CHECK(r.err.find("--resume") != std::string::npos);
         CHECK(r.err.find("per-grain arrays of different lengths") != std::string::npos);
+    }
+
+    TEST_CASE("jam --seeds: Ctrl-C while a later seed places its grains keeps the seeds done for --resume") {
+        TempDir dir;
+        const Result full = jam(dir, "full", tiny_scene(dir.file("out_full"), 0), "--seeds 2");
+        REQUIRE(full.exit_code == 0);
+        // The same campaign in this process, the interrupt raised as seed 2 is built: its packing
+        // stops at once (SetupInterrupted), before it has any state a checkpoint could hold.
+        mrjam::JamCampaignRequest req;
+        req.scene_path = dir.file("cut.json");
+        req.scene = tiny_scene(dir.file("out_cut"), 0);
+        write_text(req.scene_path, req.scene.dump());
+        req.report_path = dir.file("cut_report.json");
+        req.fidelity = "quick";
+        req.seeds = 2;
+        req.threads = mrjam::machine_threads();  // as the command's runs (bit for bit per thread count)
+        req.progress = false;
+        req.before_seed = [](int k) {
+            if (k == 1) mrjam::request_interrupt();
+        };
+        struct ClearAfter {  // the flag is process-wide: later tests must not see it, whatever happens here
+            ~ClearAfter() { mrjam::clear_interrupt(); }
+        };
+        int status = 0;
+        {
+            ClearAfter clear;
+            status = mrjam::run_jam_campaign(req);
+        }
+        CHECK(status == 130);
+        const json partial = json::parse(slurp(req.report_path));
+        CHECK(partial["status"] == "interrupted");
+        REQUIRE(partial["seeds"].size() == 1);  // seed 1 kept
+        CHECK(partial["resume_note"].get<std::string>().find("afresh") != std::string::npos);
+        // The usual resume command finishes it as the uninterrupted campaign.
+        const json resumed = resumed_report(dir, "cut");
+        const json a = json::parse(slurp(dir.file("full_report.json")));
+        CHECK(comparable(resumed)["seeds"] == comparable(a)["seeds"]);
+        CHECK(comparable(resumed)["results"] == comparable(a)["results"]);
     }
 
     TEST_CASE("jam: Ctrl-C keeps a checkpoint that --resume finishes as the uninterrupted run") {
@@ -503,10 +544,10 @@ TEST_SUITE("cli") {
         const json a = json::parse(slurp(dir.file("full_report.json")));
         write_text(dir.file("cut.json"), tiny_scene(dir.file("out_cut"), 0).dump());
         const std::string delay = std::to_string(std::max(0.05, 0.5 * a["wall_time_s"].get<double>()));
-        const Result cut = mrjam(dir,
-                                 "jam " + quote(dir.file("cut.json")) + " --report " +
-                                     quote(dir.file("cut_report.json")) + " --fidelity quick --quiet",
-                                 " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
+        const Result cut = mrjam_test::mrjam(dir,
+                                             "jam " + quote(dir.file("cut.json")) + " --report " +
+                                                 quote(dir.file("cut_report.json")) + " --fidelity quick --quiet",
+                                             " & pid=$!; sleep " + delay + "; kill -INT $pid; wait $pid");
         if (cut.exit_code == 0 || !fs::exists(dir.file("cut_report.json"))) {
             MESSAGE("the signal missed the run (finished first, or came before it started): nothing to resume");
             return;
@@ -517,8 +558,8 @@ TEST_SUITE("cli") {
         // No outcome is claimed before the protocol has ended.
         CHECK(c["results"]["outcome"].get<std::string>().rfind("incomplete", 0) == 0);
         CHECK(c["resume_with"].get<std::string>().find("mrjam jam --resume") != std::string::npos);
-        const Result resumed = mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) + " --report " +
-                                              quote(dir.file("resumed.json")) + " --quiet");
+        const Result resumed = mrjam_test::mrjam(dir, "jam --resume " + quote(c["checkpoint"].get<std::string>()) +
+                                                          " --report " + quote(dir.file("resumed.json")) + " --quiet");
         CAPTURE(resumed.err);
         REQUIRE(resumed.exit_code == 0);
         const json b = json::parse(slurp(dir.file("resumed.json")));

@@ -88,7 +88,10 @@ json campaign_record(const JamCampaignRequest& req) {
             throw SceneError("--snapshots",
                              "a resumed run keeps the snapshot settings of the interrupted one; drop "
                              "--snapshots/--snapshot-every");
-        return read_jam_checkpoint(req.resume).campaign;
+        JamCheckpoint checkpoint = read_jam_checkpoint(req.resume);
+        // A campaign-only checkpoint has no engine state: its seed starts afresh (JamCampaign::run).
+        if (checkpoint.campaign_only) checkpoint.campaign["start_afresh"] = true;
+        return checkpoint.campaign;
     }
     const std::string base = std::filesystem::absolute(req.scene_path).parent_path().string();
     return {{"scene", req.scene}, {"tier", req.fidelity},  {"base_directory", base},  {"seeds", req.seeds},
@@ -116,9 +119,13 @@ public:
 
     int run() {
         const int first_index = campaign_.at("seed_index").get<int>();
+        const bool afresh = campaign_.value("start_afresh", false);
+        campaign_.erase("start_afresh");
         report_ = campaign_["first_report"];
-        for (int k = first_index; k < seeds_; ++k)
-            if (const int status = run_seed(k, k == first_index ? req_.resume : ""); status != kExitOk) return status;
+        for (int k = first_index; k < seeds_; ++k) {
+            const std::string resume = k == first_index && !afresh ? req_.resume : "";
+            if (const int status = run_seed(k, resume); status != kExitOk) return status;
+        }
         return finish();
     }
 
@@ -143,7 +150,16 @@ private:
         if (req_.progress)
             std::cerr << "[jam] " << (resume_checkpoint.empty() ? "seed " : "resuming seed ") << seed << " (" << k + 1
                       << "/" << seeds_ << ")\n";
-        const JamOutcome outcome = run_jam(scene_, seed, seed_options(k, resume_checkpoint));
+        JamOutcome outcome;
+        if (req_.before_seed) req_.before_seed(k);
+        try {
+            outcome = run_jam(scene_, seed, seed_options(k, resume_checkpoint));
+        } catch (const SetupInterrupted&) {
+            // Ctrl-C while this seed placed its grains: with no seed done there is nothing to
+            // keep (exit 130 at once); after one, keep the seeds done (write_campaign_checkpoint).
+            if (campaign_["runs"].empty()) throw;
+            return stopped_placing(k);
+        }
         const json record = jam_seed_record(outcome, seed);
         campaign_["runs"].push_back(record);
         // Each seed's answer as it comes: a campaign of eight seeds runs for hours.
@@ -171,6 +187,30 @@ private:
         if (outcome.report.contains("error"))
             std::cerr << "[jam] " << outcome.report["error"].get<std::string>() << "\n";
         return outcome.exit_status;
+    }
+
+    // Interrupted while seed k placed its grains, after earlier seeds finished: the campaign's
+    // record goes where the seed's checkpoint would have, so the usual --resume starts seed k.
+    int stopped_placing(int k) {
+        const std::string checkpoint =
+            (std::filesystem::path(scene_.engine_scene["output"]["directory"].get<std::string>()) / "checkpoint.mrjam")
+                .string();
+        campaign_["seed_index"] = k;
+        std::filesystem::create_directories(std::filesystem::path(checkpoint).parent_path());
+        write_campaign_checkpoint(checkpoint, campaign_);
+        json partial = report_;
+        partial["status"] = "interrupted";
+        partial["partial"] = true;
+        partial["seeds"] = campaign_["runs"];
+        partial["inputs_jam"] = scene_.resolved;
+        partial["resume_note"] = "--resume starts seed " + std::to_string(first_seed_ + k) + " afresh (Ctrl-C came " +
+                                 "while it placed its grains), then runs the " + std::to_string(seeds_ - k - 1) +
+                                 " remaining seed(s)";
+        write_json_file(req_.report_path, partial);
+        std::cerr << "[jam] interrupted while seed " << first_seed_ + k << " placed its grains; the " << k
+                  << " seed(s) done are kept in " << checkpoint << "; continue with: mrjam jam --resume " << checkpoint
+                  << " --report " << req_.report_path << "\n";
+        return kExitInterrupted;
     }
 
     // The report is seed 1's with the seeds' tally. A seed counts as a jam when its arrest

@@ -3,6 +3,7 @@
 // as jam_run.hpp runs one, tallied into the jam probability with its interval; or, at the
 // continuum tier, the Bingham plug. Resumable: every checkpoint carries the campaign's record
 // (the scene, the seed running, the seeds done), so `--resume` goes on where it stopped.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -18,8 +19,9 @@ struct JamCampaignRequest {
     bool seeds_given = false;  // said by the user (the continuum tier refuses it)
     int threads = 1;
     bool progress = true;
-    std::string snapshots;       // VTK snapshot directory ("" for none)
-    std::string snapshot_every;  // as the user wrote it ("" for 20 frames)
+    std::string snapshots;                 // VTK snapshot directory ("" for none)
+    std::string snapshot_every;            // as the user wrote it ("" for 20 frames)
+    std::function<void(int)> before_seed;  // for tests: called with each seed's index before it is built
 };
 
 // Runs the campaign and writes its report. Returns the exit status: 0 complete, 1 no seed could

@@ -16,5 +16,6 @@ void install_interrupt_handler() {
 
 bool interrupt_requested() { return flag.load(std::memory_order_relaxed); }
 void request_interrupt() { flag.store(true); }
+void clear_interrupt() { flag.store(false); }
 
 }  // namespace mrjam

@@ -6,5 +6,6 @@ namespace mrjam {
 void install_interrupt_handler();
 bool interrupt_requested();
 void request_interrupt();  // for tests
+void clear_interrupt();    // for tests: the flag is process-wide
 
 }  // namespace mrjam
