@@ -530,6 +530,11 @@ TEST_SUITE("cli") {
         CHECK(partial["status"] == "interrupted");
         REQUIRE(partial["seeds"].size() == 1);  // seed 1 kept
         CHECK(partial["resume_note"].get<std::string>().find("afresh") != std::string::npos);
+        CHECK(partial["resume_with"].get<std::string>().find("jam --resume") == 6);
+        // `mrjam run --resume` cannot take it (it holds no engine state), and says so.
+        const Result run_resume = mrjam_test::mrjam(dir, "run --resume " + quote(dir.file("out_cut/checkpoint.mrjam")) +
+                                                             " --report " + quote(dir.file("run.json")) + " --quiet");
+        CHECK(run_resume.exit_code == 2);
         // The usual resume command finishes it as the uninterrupted campaign.
         const json resumed = resumed_report(dir, "cut");
         const json a = json::parse(slurp(dir.file("full_report.json")));

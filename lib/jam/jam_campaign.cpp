@@ -206,6 +206,7 @@ private:
         partial["resume_note"] = "--resume starts seed " + std::to_string(first_seed_ + k) + " afresh (Ctrl-C came " +
                                  "while it placed its grains), then runs the " + std::to_string(seeds_ - k - 1) +
                                  " remaining seed(s)";
+        partial["resume_with"] = "mrjam jam --resume " + checkpoint + " --report " + req_.report_path;
         write_json_file(req_.report_path, partial);
         std::cerr << "[jam] interrupted while seed " << first_seed_ + k << " placed its grains; the " << k
                   << " seed(s) done are kept in " << checkpoint << "; continue with: mrjam jam --resume " << checkpoint

@@ -90,6 +90,10 @@ public:
     JamRun(const JamScene& js, long long seed, const JamRunOptions& options)
         : js_(js), p_(js.protocol), seed_(seed), options_(options) {
         if (!options.resume_checkpoint.empty()) checkpoint_ = read_jam_checkpoint(options.resume_checkpoint);
+        if (checkpoint_ && checkpoint_->campaign_only)  // only `mrjam jam --resume` starts its seed afresh
+            throw SceneError("--resume", options.resume_checkpoint +
+                                             " holds a `mrjam jam --seeds` campaign's record, not a run's state: "
+                                             "resume it with `mrjam jam --resume`");
         scene_ = build_jam_scene(js, seed, options, checkpoint_, coupled_);
         System& s = scene_.system;
         check_observation_interval(p_, s.dt);
