@@ -141,6 +141,29 @@ TEST_SUITE("unit") {
         s["cell"] = {{"length", 50}, {"gate", 60}};
         CHECK_THROWS_WITH_AS(read_avalanche_spec(s, "quick"), doctest::Contains("/cell/gate"), SceneError);
     }
+
+    TEST_CASE("avalanche scene: EPSD rolling resistance by default, the SDS keys refused with it") {
+        json s = avalanche_scene();
+        s["grains"]["material"].update({{"rolling_friction", 0.4}, {"rolling_damping", 0.4}});
+        const AvalancheSpec epsd = read_avalanche_spec(s, "quick");
+        CHECK(epsd.material.rolling_model == "epsd");
+        CHECK(epsd.material.engine_rolling() == "epsd");
+        CHECK(epsd.material.rolling_damping == 0.4);
+        s["grains"]["material"]["rolling_stiffness"] = "10 N/m";
+        CHECK_THROWS_WITH_AS(read_avalanche_spec(s, "quick"), doctest::Contains("/grains/material/rolling_stiffness"),
+                             SceneError);
+        // Asked for by name, SDS takes its own keys and refuses EPSD's damping ratio as unknown.
+        s["grains"]["material"]["rolling_model"] = "sds";
+        s["grains"]["material"].erase("rolling_damping");
+        const AvalancheSpec sds = read_avalanche_spec(s, "quick");
+        CHECK(sds.material.engine_rolling() == "sds");
+        CHECK(sds.material.rolling_stiffness == 10.0);
+        s["grains"]["material"]["rolling_damping"] = 0.4;
+        CHECK_THROWS_WITH_AS(read_avalanche_spec(s, "quick"), doctest::Contains("rolling_damping"), SceneError);
+        // Without rolling friction there is no rolling resistance, whichever the model.
+        json none = avalanche_scene();
+        CHECK(read_avalanche_spec(none, "quick").material.engine_rolling() == "none");
+    }
 }
 
 #include "run/runner.hpp"
