@@ -97,7 +97,7 @@ private:
     const std::string& name(std::size_t c) const { return spec_.constrictions[c].first; }
     fs::path directory(std::size_t c) const { return spec_.output_directory / name(c); }
     fs::path map_path(std::size_t c) const { return directory(c) / "field.map"; }
-    fs::path checkpoint_path(std::size_t c) const { return directory(c) / "jam" / "checkpoint.mrjam"; }
+    fs::path checkpoint_path(std::size_t c) const { return default_checkpoint_path((directory(c) / "jam").string()); }
 
     Step run_constriction(std::size_t c) {
         const fs::path dir = directory(c);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -125,12 +124,7 @@ void write_grain_views(const std::string& path, const GrainViews& g) {
     draw_panel(svg, g, across, half, reach);
     draw_colour_bar(svg, across.left + kPanel + 14, reach > 0 ? reach : 1.0);
     svg << "</svg>\n";
-    {
-        std::ofstream out(path);
-        out << svg.str();
-        if (!out) throw std::runtime_error("cannot write " + path);
-    }
-    write_png_from_svg(svg.str(), png_twin(path), 1.0);
+    write_svg_document(path, svg.str(), 1.0);
 }
 
 }  // namespace mrjam

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -91,10 +90,6 @@ std::pair<double, double> bar(const PlotSeries& s, std::size_t k) {
 
 }  // namespace
 
-std::string png_twin(const std::string& svg_path) {
-    return std::filesystem::path(svg_path).replace_extension(".png").string();
-}
-
 void write_svg(const std::string& path, const Plot& plot) {
     // The legend sits right of the frame; the canvas widens for long labels (about 7 units a
     // character at 12 px sans-serif) instead of cutting them off.
@@ -177,12 +172,7 @@ void write_svg(const std::string& path, const Plot& plot) {
     o << "</svg>\n";
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    {
-        std::ofstream f(path);
-        if (!f) throw std::runtime_error("cannot write " + path);
-        f << o.str();
-    }
-    write_png_from_svg(o.str(), png_twin(path));
+    write_svg_document(path, o.str());
 }
 
 }  // namespace mrjam

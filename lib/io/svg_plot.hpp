@@ -29,9 +29,6 @@ struct Plot {
 // Text made safe inside an SVG element: <, > and & as entities.
 std::string svg_escape(const std::string& s);
 
-// The PNG twin of an SVG file: the same path with the extension .png.
-std::string png_twin(const std::string& svg_path);
-
 // Writes the plot as an SVG file and its PNG twin (rendered by librsvg at twice the SVG's size,
 // io/svg_raster.hpp); throws std::runtime_error if either cannot be written.
 void write_svg(const std::string& path, const Plot& plot);

@@ -4,6 +4,8 @@
 #include <librsvg/rsvg.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -49,6 +51,19 @@ void write_png_from_svg(const std::string& svg, const std::string& png_path, dou
     const cairo_status_t status = cairo_surface_write_to_png(surface.get(), png_path.c_str());
     if (status != CAIRO_STATUS_SUCCESS)
         throw std::runtime_error("cannot write " + png_path + ": " + cairo_status_to_string(status));
+}
+
+std::string png_twin(const std::string& svg_path) {
+    return std::filesystem::path(svg_path).replace_extension(".png").string();
+}
+
+void write_svg_document(const std::string& path, const std::string& svg, double scale) {
+    {
+        std::ofstream f(path);
+        f << svg;
+        if (!f) throw std::runtime_error("cannot write " + path);
+    }
+    write_png_from_svg(svg, png_twin(path), scale);
 }
 
 }  // namespace mrjam

@@ -193,8 +193,8 @@ private:
     // record goes where the seed's checkpoint would have, so the usual --resume starts seed k.
     int stopped_placing(int k) {
         const std::string checkpoint =
-            (std::filesystem::path(scene_.engine_scene["output"]["directory"].get<std::string>()) / "checkpoint.mrjam")
-                .string();
+            default_checkpoint_path(scene_.engine_scene["output"]["directory"].get<std::string>());
+        const std::string resume_with = "mrjam jam --resume " + checkpoint + " --report " + req_.report_path;
         campaign_["seed_index"] = k;
         std::filesystem::create_directories(std::filesystem::path(checkpoint).parent_path());
         write_campaign_checkpoint(checkpoint, campaign_);
@@ -206,11 +206,10 @@ private:
         partial["resume_note"] = "--resume starts seed " + std::to_string(first_seed_ + k) + " afresh (Ctrl-C came " +
                                  "while it placed its grains), then runs the " + std::to_string(seeds_ - k - 1) +
                                  " remaining seed(s)";
-        partial["resume_with"] = "mrjam jam --resume " + checkpoint + " --report " + req_.report_path;
+        partial["resume_with"] = resume_with;
         write_json_file(req_.report_path, partial);
         std::cerr << "[jam] interrupted while seed " << first_seed_ + k << " placed its grains; the " << k
-                  << " seed(s) done are kept in " << checkpoint << "; continue with: mrjam jam --resume " << checkpoint
-                  << " --report " << req_.report_path << "\n";
+                  << " seed(s) done are kept in " << checkpoint << "; continue with: " << resume_with << "\n";
         return kExitInterrupted;
     }
 

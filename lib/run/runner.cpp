@@ -109,7 +109,7 @@ long steps_until_event(const Scene& scene, long left, long step, long observe_st
 
 std::string checkpoint_path_of(const Scene& scene) {
     if (!scene.output.checkpoint_path.empty()) return scene.output.checkpoint_path;
-    return (std::filesystem::path(scene.output.directory) / "checkpoint.mrjam").string();
+    return default_checkpoint_path(scene.output.directory);
 }
 
 nlohmann::json timestep_json(const Scene& scene) {
@@ -122,6 +122,10 @@ nlohmann::json timestep_json(const Scene& scene) {
 }
 
 }  // namespace
+
+std::string default_checkpoint_path(const std::string& output_directory) {
+    return (std::filesystem::path(output_directory) / "checkpoint.mrjam").string();
+}
 
 void write_json_file(const std::string& path, const nlohmann::json& value) {
     const std::filesystem::path p(path);

@@ -64,6 +64,8 @@ void prepare_output_directory(const std::string& directory, const std::string& j
 // Checks, before a run, that its checkpoint can be written at `path` (its directory created and
 // writable, the path not a directory): found out at Ctrl-C, the run would end with nothing saved.
 void check_checkpoint_path(const std::string& path, const std::string& json_path);
+// Where a run writes its checkpoint when its scene names no path: DIRECTORY/checkpoint.mrjam.
+std::string default_checkpoint_path(const std::string& output_directory);
 // Deletes the checkpoint of a run that completed: resumed, it would only run the end again.
 void discard_checkpoint(const std::string& path);
 
