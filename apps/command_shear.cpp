@@ -2,6 +2,7 @@
 // Runs the study (lib/shear), writes the report and the flow-curve plot next to it, and with
 // --calibrate fits named model parameters to measured flow-curve points.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -12,6 +13,7 @@
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/calibration.hpp"
+#include "shear/convergence.hpp"
 #include "shear/shear_cell.hpp"
 #include "shear/shear_plots.hpp"
 #include "shear/shear_spec.hpp"
@@ -27,6 +29,8 @@ struct ShearArgs {
     std::string calibrate;
     std::vector<std::string> parameters;
     int max_runs = 8;
+    bool converge = false;
+    int jobs = 0;
     int threads = machine_threads();  // the cores this process may use
     bool quiet = false;
     std::string fidelity = "standard";
@@ -62,6 +66,31 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     report["wall_time_s"] = out.wall_time;
     return report;
 }
+// `--converge`: the study at every cell size and seed, its report and pictures.
+int run_convergence_report(const ShearSpec& spec, const ShearOptions& options, const ShearArgs& args) {
+    const ConvergenceOutcome out = run_convergence(spec, options);
+    nlohmann::json report;
+    report["mrjam_version"] = MRJAM_VERSION;
+    report["mode"] = "shear-converge";
+    report["scene_file"] = args.scene;
+    report["inputs"] = spec.resolved;
+    report["fidelity"] = describe(shear_tier(spec.tier));
+    report["status"] = out.status;
+    report["results"] = out.results;
+    report["runs_directory"] = out.directory;
+    if (out.status == "interrupted") report["resume_with"] = "the same command: finished runs are kept";
+    report["wall_time_s"] = out.wall_time;
+    report["plots"] = write_convergence_plots(args.report, report);
+    write_json_file(args.report, report);
+    const auto& r = report["results"];
+    if (r["yield_stress_Pa"].is_number())
+        std::fprintf(stderr, "[shear] %s: yield stress %.1f +- %.1f kPa (%s)\n", out.status.c_str(),
+                     r["yield_stress_Pa"].get<double>() * 1e-3, r["yield_stress_error_Pa"].get<double>() * 1e-3,
+                     r["converged"].get<bool>() ? "converged" : "not converged: the largest cell's");
+    std::cerr << "[shear] convergence " << out.status << "; report written to " << args.report << "\n";
+    return out.exit_status;
+}
+
 }  // namespace
 
 void add_shear_command(CLI::App& app, int& exit_status) {
@@ -81,20 +110,32 @@ void add_shear_command(CLI::App& app, int& exit_status) {
     CLI::Option* max_runs = cmd->add_option("--max-runs", args->max_runs, "With --calibrate: most shear studies to run")
                                 ->check(CLI::Range(2, 200))
                                 ->capture_default_str();
-    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
+    cmd->add_flag("--converge", args->converge,
+                  "Run the study at several cell sizes and seeds (the scene's convergence block) and report the "
+                  "yield stress each gives and where it stops changing; rerun to continue an interrupted one");
+    CLI::Option* jobs = cmd->add_option("--jobs", args->jobs,
+                                        "With --converge: runs side by side (default: the machine's cores, their "
+                                        "threads sharing them unless --threads)")
+                            ->check(CLI::Range(1, 1024));
+    CLI::Option* threads = cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
+                               ->check(CLI::Range(1, 1024))
+                               ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")
             ->check(CLI::IsMember(shear_tier_names()))
             ->capture_default_str();
-    cmd->callback([args, fidelity, max_runs, &exit_status] {
+    cmd->callback([args, fidelity, max_runs, jobs, threads, &exit_status] {
+        if (jobs->count() > 0 && !args->converge)
+            throw SceneError("--jobs", "sets how many runs of --converge go side by side: give --converge, or drop it");
         if (args->scene.empty() == args->resume.empty())
             throw CLI::ValidationError("shear", "give a SCENE file, or --resume CHECKPOINT (not both)");
         if (!args->calibrate.empty() && !args->resume.empty())
             throw CLI::ValidationError("shear",
                                        "--calibrate starts fresh studies; it cannot be combined with --resume");
+        if (args->converge && (!args->resume.empty() || !args->calibrate.empty()))
+            throw SceneError("--converge",
+                             "runs its own studies (rerun it to continue): drop --resume and --calibrate");
         if (args->calibrate.empty() && !args->parameters.empty())
             throw SceneError("--parameter", "sets what --calibrate fits: give --calibrate DATA too, or drop it");
         if (args->calibrate.empty() && max_runs->count() > 0)
@@ -130,11 +171,20 @@ void add_shear_command(CLI::App& app, int& exit_status) {
             exit_status = report.value("exit_status", 0);
             return;
         }
+        if (args->converge) {
+            options.jobs = args->jobs;
+            options.threads_given = threads->count() > 0;
+            spec = read_shear_spec(read_json_file(args->scene), args->fidelity);
+            exit_status = run_convergence_report(spec, options, *args);
+            return;
+        }
         ShearOutcome out;
         if (!args->resume.empty()) {
             out = resume_shear_study(args->resume, options, spec);
         } else {
             spec = read_shear_spec(read_json_file(args->scene), args->fidelity);
+            if (spec.input.contains("convergence") && !args->quiet)
+                std::cerr << "[shear] note: the scene's convergence block is read by --converge; running one study\n";
             out = run_shear_study(spec, options);
         }
         nlohmann::json report = report_of(spec, out, args->resume.empty() ? args->scene : args->resume, args->threads);

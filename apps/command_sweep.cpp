@@ -36,6 +36,9 @@ void add_sweep_command(CLI::App& app, int& exit_status) {
     cmd->add_option("--threads", o->threads,
                     "OpenMP threads of each point's run (default: the machine's cores; 1 per MPI rank)")
         ->check(CLI::Range(1, 1024));
+    cmd->add_option("--jobs", o->jobs,
+                    "Points run side by side (default 1; their threads share the machine's cores unless --threads)")
+        ->check(CLI::Range(1, 1024));
     cmd->add_flag("--extend", o->extend, "Accept a sweep file that only adds points to the folder's");
     cmd->add_flag("--yes", o->yes, "Run a sweep of more than 100 points");
     cmd->add_option("--shard", *shard, "I/N: run only the points whose number modulo N is I");

@@ -10,49 +10,53 @@ namespace mrjam {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path design_progress_path(const fs::path& output_directory) { return output_directory / "design_progress.json"; }
+namespace {
 
-void write_design_progress(const fs::path& output_directory, const DesignProgress& p) {
-    write_json_file(design_progress_path(output_directory).string(), {{"format", "mrjam design progress 1"},
-                                                                      {"inputs", p.inputs},
-                                                                      {"fidelity", p.fidelity},
-                                                                      {"rows", p.rows},
-                                                                      {"widest", p.widest},
-                                                                      {"widest_diameter_m", p.widest_diameter},
-                                                                      {"wall_time_s", p.wall_time_s},
-                                                                      {"field", p.field},
-                                                                      {"runs", p.runs},
-                                                                      {"first_report", p.first_report}});
-}
+constexpr const char* kDesignFormat = "mrjam design progress 2";
+constexpr const char* kConstrictionFormat = "mrjam design constriction progress 1";
 
-DesignProgress read_design_progress(const fs::path& output_directory, const json& design, const std::string& fidelity) {
-    const fs::path path = design_progress_path(output_directory);
+// A record this program wrote, checked for its format; a damaged one is bad input to --resume.
+json read_record(const fs::path& path, const char* format) {
     std::ifstream in(path);
-    if (!in)
-        throw SceneError("--resume", "no design in progress in " + output_directory.string() + " (" +
-                                         path.filename().string() + " is missing): run the design without --resume");
     json saved;
     try {
         saved = json::parse(in);
     } catch (const json::exception& e) {
         throw SceneError("--resume", path.string() + " is damaged (" + e.what() + "): run the design without --resume");
     }
-    if (!saved.is_object() || saved.value("format", "") != "mrjam design progress 1")
-        throw SceneError("--resume",
-                         path.string() + " is not a design's progress record: run the design without --resume");
+    if (!saved.is_object() || saved.value("format", "") != format)
+        throw SceneError("--resume", path.string() + " is not a record of this version's design (format " + format +
+                                         "): run the design without --resume");
+    return saved;
+}
+
+[[noreturn]] void damaged(const fs::path& path, const json::exception& e) {
+    throw SceneError("--resume", path.string() + " is damaged (" + e.what() + "): run the design without --resume");
+}
+
+}  // namespace
+
+fs::path design_progress_path(const fs::path& output_directory) { return output_directory / "design_progress.json"; }
+
+void write_design_progress(const fs::path& output_directory, const DesignProgress& p) {
+    write_json_file(
+        design_progress_path(output_directory).string(),
+        {{"format", kDesignFormat}, {"inputs", p.inputs}, {"fidelity", p.fidelity}, {"wall_time_s", p.wall_time_s}});
+}
+
+DesignProgress read_design_progress(const fs::path& output_directory, const json& design, const std::string& fidelity) {
+    const fs::path path = design_progress_path(output_directory);
+    if (!fs::exists(path))
+        throw SceneError("--resume", "no design in progress in " + output_directory.string() + " (" +
+                                         path.filename().string() + " is missing): run the design without --resume");
+    const json saved = read_record(path, kDesignFormat);
     DesignProgress p;
     try {
         p.inputs = saved.at("inputs");
         p.fidelity = saved.at("fidelity").get<std::string>();
-        p.rows = saved.at("rows");
-        p.widest = saved.at("widest").get<std::string>();
-        p.widest_diameter = saved.at("widest_diameter_m").get<double>();
         p.wall_time_s = saved.at("wall_time_s").get<double>();
-        p.field = saved.at("field");
-        p.runs = saved.at("runs");
-        p.first_report = saved.at("first_report");
     } catch (const json::exception& e) {
-        throw SceneError("--resume", path.string() + " is damaged (" + e.what() + "): run the design without --resume");
+        damaged(path, e);
     }
     // Another design in the same directory would mix two designs' constrictions in one report.
     if (p.inputs != design)
@@ -61,6 +65,30 @@ DesignProgress read_design_progress(const fs::path& output_directory, const json
     if (!fidelity.empty() && fidelity != p.fidelity)
         throw SceneError("--fidelity",
                          "the interrupted design ran at the " + p.fidelity + " tier: drop --fidelity to resume it");
+    return p;
+}
+
+fs::path constriction_progress_path(const fs::path& folder) { return folder / "constriction_progress.json"; }
+
+void write_constriction_progress(const fs::path& folder, const ConstrictionProgress& p) {
+    write_json_file(
+        constriction_progress_path(folder).string(),
+        {{"format", kConstrictionFormat}, {"field", p.field}, {"runs", p.runs}, {"first_report", p.first_report}});
+}
+
+ConstrictionProgress read_constriction_progress(const fs::path& folder) {
+    const fs::path path = constriction_progress_path(folder);
+    ConstrictionProgress p;
+    if (!fs::exists(path)) return p;
+    const json saved = read_record(path, kConstrictionFormat);
+    try {
+        p.field = saved.at("field");
+        p.runs = saved.at("runs");
+        p.first_report = saved.at("first_report");
+        if (!p.runs.is_array()) throw json::type_error::create(302, "runs is not a list", nullptr);
+    } catch (const json::exception& e) {
+        damaged(path, e);
+    }
     return p;
 }
 

@@ -72,6 +72,19 @@ TEST_SUITE("cli") {
         const bool jammed = row["jam_probability"].is_number() && row["jam_probability"].get<double>() >= 1.0;
         CHECK(report["results"]["widest_reliable_constriction"] == (jammed ? json("30x") : json(nullptr)));
 
+        // The constrictions are a sweep's points: its table has the row's figures, its pictures are written.
+        const std::string table = slurp(dir.file("design/table.csv"));
+        CHECK(table.rfind("point,state,constrictions/0,jam_probability,open_flow_ml_min,throat_B_T\n", 0) == 0);
+        CHECK(table.find("\n30x,done,30x,") != std::string::npos);
+        REQUIRE(report["plots"].size() == 2);
+        for (const json& plot : report["plots"]) {
+            CHECK(slurp(plot.get<std::string>()).rfind("<svg", 0) == 0);
+            CHECK(std::filesystem::exists(std::filesystem::path(plot.get<std::string>()).replace_extension(".png")));
+        }
+        const json manifest = json::parse(slurp(dir.file("design/manifest.json")));
+        CHECK(manifest["points"][0]["state"] == "done");
+        CHECK(manifest["points"][0]["attempts"] == 1);
+
         // Resumed after it finished: nothing is solved or run again, and the answer is the same.
         req.resume = true;
         req.report_path = dir.file("resumed.json");
@@ -80,5 +93,53 @@ TEST_SUITE("cli") {
         const json resumed = json::parse(slurp(req.report_path));
         CHECK(resumed["results"]["constrictions"] == report["results"]["constrictions"]);
         CHECK(resumed["resumed"] == true);
+
+        // Run again without --resume into the same folder: a fresh design, which solves and runs again.
+        req.resume = false;
+        req.report_path = dir.file("again.json");
+        REQUIRE(mrjam::run_design(req, solver) == 0);
+        CHECK(solves == 2);
+        const json again = json::parse(slurp(req.report_path));
+        CHECK(again["results"]["constrictions"] == report["results"]["constrictions"]);
+        CHECK(json::parse(slurp(dir.file("design/manifest.json")))["points"][0]["attempts"] == 1);
+    }
+
+    TEST_CASE("design (library): a constriction that fails does not stop the others, and a resume retries it") {
+        TempDir dir;
+        int solves = 0;
+        // The first solve fails, as a mesh or GetDP failure would.
+        const mrjam::FieldSolver solver = [&](const mrjam::magnetics::EpmFieldRequest&) {
+            if (solves++ == 0) throw std::runtime_error("the mesher gave up");
+            int unused = 0;
+            return uniform_field(0.23, unused);
+        };
+        mrjam::DesignRequest req;
+        req.scene_path = dir.file("design.json");
+        req.design = brief_design(dir.file("design"));
+        req.design["constrictions"] = {"40x", "30x"};
+        req.report_path = dir.file("report.json");
+        req.progress = false;
+        CHECK(mrjam::run_design(req, solver) == 1);  // a fault, not bad input
+        const json failed = json::parse(slurp(req.report_path));
+        CHECK(failed["status"] == "failed");
+        CHECK(failed["stopped"]["constriction"] == "40x");
+        CHECK(failed["stopped"]["stage"] == "field solve");
+        CHECK(failed["stopped"]["error"].get<std::string>().find("the mesher gave up") != std::string::npos);
+        REQUIRE(failed["results"]["constrictions"].size() == 1);
+        CHECK(failed["results"]["constrictions"][0]["constriction"] == "30x");
+
+        // Resumed: the finished constriction is kept, the failed one is run again.
+        req.resume = true;
+        req.report_path = dir.file("resumed.json");
+        REQUIRE(mrjam::run_design(req, solver) == 0);
+        CHECK(solves == 3);
+        const json resumed = json::parse(slurp(req.report_path));
+        CHECK(resumed["status"] == "complete");
+        REQUIRE(resumed["results"]["constrictions"].size() == 2);
+        CHECK(resumed["results"]["constrictions"][0]["constriction"] == "40x");  // in the design's order
+        CHECK(resumed["results"]["constrictions"][1] == failed["results"]["constrictions"][0]);
+        const json manifest = json::parse(slurp(dir.file("design/manifest.json")));
+        CHECK(manifest["points"][0]["attempts"] == 2);
+        CHECK(manifest["points"][1]["attempts"] == 1);
     }
 }

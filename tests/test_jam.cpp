@@ -1270,7 +1270,7 @@ TEST_SUITE("cli") {
         // A finished seed leaves no checkpoint to be resumed by mistake.
         CHECK_FALSE(std::filesystem::exists(dir.file("cut/30x/jam/checkpoint.mrjam")));
         // A damaged progress record is bad input to --resume, not a JSON library's exception.
-        write_text(dir.file("cut/design_progress.json"), "{\"format\": \"mrjam design progress 1\", \"rows\": 3}");
+        write_text(dir.file("cut/design_progress.json"), "{\"format\": \"mrjam design progress 2\", \"inputs\": 3}");
         const Result damaged = mrjam_test::mrjam(dir, "design " + quote(dir.file("cut.json")) + " --resume --quiet");
         CHECK(damaged.exit_code == 2);
         CHECK(damaged.err.find("damaged") != std::string::npos);

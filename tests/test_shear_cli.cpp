@@ -71,11 +71,73 @@ TEST_SUITE("cli") {
         CHECK(res["experiment"].contains("relative_error"));
         REQUIRE(res["field_sweep"].size() == 2);
         CHECK(res["field_sweep"][1]["flux_density_T"].get<double>() == rel(0.4));
+        // Each field is a sweep point: a shear study of its own (the ladder's first rate, then the
+        // sweep's), whose last rate is the row.
+        const json point = json::parse(slurp(dir.file("out/field_sweep/points/400mT/report.json")));
+        CHECK(point["inputs"]["field"]["flux_density"].get<double>() == rel(0.4));
+        REQUIRE(point["results"]["flow_curve"].size() == 2);
+        CHECK(point["results"]["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
+        CHECK(point["results"]["flow_curve"][1]["stress_Pa"] == res["field_sweep"][1]["stress_Pa"]);
+        CHECK_FALSE(point["inputs"].contains("field_sweep"));
+        const json manifest = json::parse(slurp(dir.file("out/field_sweep/manifest.json")));
+        REQUIRE(manifest["points"].size() == 2);
+        for (const json& p : manifest["points"]) CHECK(p["state"] == "done");
+        // A field given twice would be one study: refused by its place in the list.
+        json twice = scene;
+        twice["field_sweep"]["flux_densities"] = {"200 mT", "0.2 T"};
+        expect_shear_refused(dir, "field_twice", twice, "/field_sweep/flux_densities/1");
         CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
         for (const char* key : {"flow_curve", "field_sweep"}) {
             const std::string svg = slurp(rep["plots"][key].get<std::string>());
             CHECK(svg.rfind("<svg", 0) == 0);
         }
+    }
+
+    TEST_CASE("shear cli: --converge runs every cell size and seed, reports each size and the verdict, and resumes") {
+        TempDir dir;
+        json scene = small_scene(dir.file("out"));
+        scene["convergence"] = {{"cell_sizes", {"36 um", "40 um", "44 um"}}, {"seeds", 2}};
+        const Result r = shear(dir, "conv", scene, "--converge --threads 1");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file("conv_report.json")));
+        CHECK(rep["mode"] == "shear-converge");
+        CHECK(rep["status"] == "complete");
+        const json& res = rep["results"];
+        REQUIRE(res["sizes"].size() == 3);
+        for (const json& size : res["sizes"]) {
+            CHECK(size["seeds_done"] == 2);
+            CHECK(size["flow_curve"].size() == 3);
+            REQUIRE(size["seed_yield_stresses_Pa"].size() == 2);
+        }
+        CHECK(res["sizes"][2]["edge_m"].get<double>() == rel(44e-6));
+        // A larger cell holds more grains.
+        CHECK(res["sizes"][2]["grains_mean"].get<double>() > res["sizes"][0]["grains_mean"].get<double>());
+        CHECK(res["converged"].is_boolean());
+        CHECK(res["yield_stress_Pa"].is_number());
+        CHECK(res["experiment"]["relative_error"].is_number());
+        // Each run is the scene at that edge and seed, the field sweep's and this block left out.
+        const json run = json::parse(slurp(dir.file("out/convergence/points/40um_seed2/report.json")));
+        CHECK(run["seed"] == 2);
+        CHECK(run["results"]["cell"]["size_m"][0].get<double>() == rel(40e-6));
+        CHECK(res["sizes"][1]["seed_yield_stresses_Pa"][1] == run["results"]["yield_stress_Pa"]);
+        for (const char* plot : {"convergence", "flow_curves"})
+            CHECK(slurp(rep["plots"][plot].get<std::string>()).rfind("<svg", 0) == 0);
+        // Rerun: every run is done, none is run again, and the verdict is the same.
+        const Result again = shear(dir, "conv", scene, "--converge --threads 1");
+        REQUIRE(again.exit_code == 0);
+        const json rep2 = json::parse(slurp(dir.file("conv_report.json")));
+        CHECK(rep2["results"] == rep["results"]);
+        for (const json& p : json::parse(slurp(dir.file("out/convergence/manifest.json")))["points"])
+            CHECK(p["attempts"] == 1);
+        // A changed scene against those runs is refused, naming what changed.
+        scene["field"]["flux_density"] = "500 mT";
+        const Result changed = shear(dir, "conv", scene, "--converge --threads 1");
+        CHECK(changed.exit_code == 2);
+        CHECK(changed.err.find("--converge") != std::string::npos);
+        CHECK(changed.err.find("/shear_input/field/flux_density") != std::string::npos);
+        const Result mixed = shear(dir, "conv", scene, "--converge --resume x.mrjam");
+        CHECK(mixed.exit_code != 0);
     }
 
     TEST_CASE("shear cli: pairwise contact damping replaces the Stokes drag when asked") {

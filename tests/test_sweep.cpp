@@ -233,6 +233,13 @@ TEST_SUITE("cli") {
         REQUIRE(mrjam_test::mrjam(dir, "sweep " + file + " --out " + dir.file("sharded") + " --collect").exit_code ==
                 0);
         CHECK(table_rows(dir, "sharded") == table_rows(dir, "serial"));
+        // Three points at a time in one process: the same table, each point run once.
+        const auto side_by_side = mrjam_test::mrjam(dir, "sweep " + file + " --out " + dir.file("jobs") + " --jobs 3");
+        REQUIRE_MESSAGE(side_by_side.exit_code == 0, side_by_side.err);
+        CHECK(side_by_side.err.find("3 at a time") != std::string::npos);
+        CHECK(table_rows(dir, "jobs") == table_rows(dir, "serial"));
+        for (const json& p : json::parse(mrjam_test::slurp(dir.file("jobs/manifest.json")))["points"])
+            CHECK(p["attempts"] == 1);
         const auto bad = mrjam_test::mrjam(dir, "sweep " + file + " --out " + dir.file("x") + " --shard 2/2");
         CHECK(bad.exit_code == 2);
         CHECK(bad.err.find("--shard") != std::string::npos);

@@ -160,6 +160,7 @@ void write_svg(const std::string& path, const Plot& plot) {
             }
         }
         const double lx = left + pw + 15;
+        if (s.label.empty()) continue;  // a series the legend names with another (the lower error line)
         if (s.line)
             o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 20 << "\" y2=\"" << ly << "\" stroke=\""
               << s.colour << dash << "\" stroke-width=\"1.5\"/>\n";

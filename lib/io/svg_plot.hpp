@@ -7,7 +7,7 @@
 namespace mrjam {
 
 struct PlotSeries {
-    std::string label;
+    std::string label;                // "": drawn, but not in the legend
     std::vector<double> x, y, error;  // error may be empty
     // Asymmetric bars (a confidence interval): y - error_low to y + error_high; when given, they
     // replace `error`.

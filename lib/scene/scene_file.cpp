@@ -10,6 +10,16 @@
 
 namespace mrjam {
 
+nlohmann::json read_own_json_file(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return nullptr;
+    try {
+        return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error&) {
+        return nullptr;
+    }
+}
+
 nlohmann::json read_json_file(const std::string& path) {
     if (std::filesystem::is_directory(path)) throw SceneError(path, "is a directory: give the scene's JSON file");
     std::ifstream in(path);

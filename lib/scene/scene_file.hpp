@@ -17,4 +17,8 @@ inline constexpr std::size_t kMostSceneDepth = 64;
 // the JSON path of a key given twice.
 nlohmann::json read_json_file(const std::string& path);
 
+// A JSON file this program wrote itself (a state or a report): null if it is absent or was cut
+// short by a kill mid-write.
+nlohmann::json read_own_json_file(const std::string& path);
+
 }  // namespace mrjam

@@ -12,7 +12,8 @@ std::vector<FlowPoint> flow_points(const nlohmann::json& results) {
     return pts;
 }
 
-nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, const nlohmann::json& current) {
+nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, const nlohmann::json& current,
+                         const nlohmann::json& field_sweep) {
     nlohmann::json r = nlohmann::json::object();
     const nlohmann::json* main = nullptr;
     bool main_partial = false;
@@ -56,18 +57,7 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
     r["yield_stress_error_Pa"] = bingham.ok ? nlohmann::json(bingham.yield_stress_error) : nlohmann::json(nullptr);
     if (!bingham.ok) r["yield_stress_note"] = bingham.note;
 
-    if (!spec.sweep_fields.empty()) {
-        nlohmann::json sweep = nlohmann::json::array();
-        for (std::size_t c = 1; c < cells.size(); ++c) {
-            const auto& q = cells[c]["rates"].back();  // the first, if two, is the pre-shear
-            sweep.push_back({{"flux_density_T", cells[c]["flux_density_T"]},
-                             {"rate_1_s", q["rate_1_s"]},
-                             {"stress_Pa", q["stress_Pa"]},
-                             {"error_Pa", q["error_Pa"]},
-                             {"strain", q["strain"]}});
-        }
-        r["field_sweep"] = sweep;
-    }
+    if (!spec.sweep_fields.empty()) r["field_sweep"] = field_sweep.is_array() ? field_sweep : nlohmann::json::array();
     if (spec.experiment.is_object()) {
         nlohmann::json cmp = spec.experiment;
         if (cmp.contains("yield_stress_Pa") && bingham.ok) {

@@ -10,8 +10,10 @@
 
 namespace mrjam {
 
-// cells: the finished cells (first one the main ladder); current: the cell in progress or null.
-nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, const nlohmann::json& current);
+// cells: the finished cells (the main ladder's); current: the cell in progress or null;
+// field_sweep: the field sweep's finished fields (shear/field_sweep.hpp), null without a sweep.
+nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, const nlohmann::json& current,
+                         const nlohmann::json& field_sweep = nullptr);
 
 // The flow curve of a results object (rate, stress, error), for fits and plots.
 std::vector<FlowPoint> flow_points(const nlohmann::json& results);

@@ -17,6 +17,7 @@
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/block_average.hpp"
+#include "shear/field_sweep.hpp"
 #include "shear/shear_analysis.hpp"
 #include "shear/shear_progress.hpp"
 #include "shear/shear_stress.hpp"
@@ -28,9 +29,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// One cell of a study: its field and its ladder.
+// The study's cell: its field and its ladder (the field sweep's cells are studies of their own,
+// shear/field_sweep.hpp).
 struct CellPlan {
-    std::string name;         // "main" or "field_sweep"
+    std::string name;         // "main"
     double flux_density = 0;  // T
     std::vector<double> wall_speeds, rates, strains;
     std::vector<long> steps;               // fixed steps per rate (0: from the strain)
@@ -38,7 +40,6 @@ struct CellPlan {
 };
 
 std::vector<CellPlan> plan_of(const ShearSpec& spec) {
-    std::vector<CellPlan> cells;
     CellPlan main;
     main.name = "main";
     main.flux_density = spec.flux_density;
@@ -49,28 +50,7 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
         main.steps.push_back(spec.steps_first > 0 ? (k == 0 ? spec.steps_first : spec.steps_per_rate) : 0);
         main.strain_keys.push_back(k == 0 ? "/ladder/strain_first" : "/ladder/strain_per_rate");
     }
-    cells.push_back(main);
-    for (double b : spec.sweep_fields) {
-        // As the source's field runs: shear first at the ladder's top rate (strain_first) to build
-        // the sheared structure, then measure at the sweep rate; the stress of a cell sheared from
-        // rest is still rising (at 600 mT and 100 1/s, half the pre-sheared value after a strain of 0.05).
-        CellPlan c;
-        c.name = "field_sweep";
-        c.flux_density = b;
-        if (spec.rates.front() > spec.sweep_rate) {
-            c.rates.push_back(spec.rates.front());
-            c.strains.push_back(spec.steps_first > 0 ? 0.0 : spec.strain_first);
-            c.steps.push_back(spec.steps_first > 0 ? spec.steps_first : 0);
-            c.strain_keys.push_back("/ladder/strain_first");
-        }
-        c.rates.push_back(spec.sweep_rate);
-        c.strains.push_back(spec.sweep_strain);
-        c.steps.push_back(0);
-        c.strain_keys.push_back("/field_sweep/strain");
-        for (double g : c.rates) c.wall_speeds.push_back(0.5 * g * spec.gap());
-        cells.push_back(c);
-    }
-    return cells;
+    return {main};
 }
 
 std::string checkpoint_path(const ShearSpec& spec, const ShearOptions& o) {
@@ -112,6 +92,7 @@ public:
         const CheckpointHeader header = read_checkpoint_header(path);
         const nlohmann::json& state = header.history.at("state");
         progress_ = StudyProgress::from_json(state.at("progress"));
+        resumed_ = true;
         if (!progress_.current) return;  // between cells: the next starts fresh
         BuildOptions build;
         build.threads = options_.threads;
@@ -154,15 +135,36 @@ public:
                 finish_cell(c);
             }
         }
+        nlohmann::json field_sweep;
+        if (out.status == "complete" && !spec_.sweep_fields.empty()) field_sweep = run_fields(out);
         if (out.status == "complete") discard_checkpoint(checkpoint_path(spec_, options_));
         const nlohmann::json current = progress_.current ? progress_.current->to_json() : nlohmann::json(nullptr);
-        out.results = summarise(spec_, progress_.cells, current);
+        out.results = summarise(spec_, progress_.cells, current, field_sweep);
         out.engine = progress_.engine;
         out.wall_time = seconds_since(t0_);
         return out;
     }
 
 private:
+    // The field sweep, once the main ladder is done; its fields as far as they got. The main
+    // cell's checkpoint stays until the sweep is done, so --resume on it continues the sweep.
+    nlohmann::json run_fields(ShearOutcome& out) {
+        const FieldSweepOutcome fields = run_field_sweep(spec_, options_, resumed_);
+        if (fields.exit_status == kExitInterrupted) {
+            out.status = "interrupted";
+            out.exit_status = kExitInterrupted;
+            out.checkpoint = checkpoint_path(spec_, options_);
+            if (options_.progress)
+                std::fprintf(stderr, "[%s] interrupted in the field sweep; resume with the checkpoint %s\n",
+                             options_.label.c_str(), out.checkpoint.c_str());
+        } else if (fields.exit_status != 0) {
+            out.status = "failed";
+            out.error = fields.error;
+            out.exit_status = fields.exit_status;
+        }
+        return fields.rows;
+    }
+
     // A strain or a magnetisation that needs more steps than any run could take is a unit or an
     // exponent gone wrong (a strain of 1e12 ran, showing "step 0/2.3e17"), or a step the damping
     // has shrunk: refused as run mode refuses a stage's duration.
@@ -469,7 +471,9 @@ private:
         for (const Raft& r : s.rafts) done["rafts"].push_back({{"name", r.name}, {"grains", r.members}});
         progress_.cells.push_back(done);
         progress_.current.reset();
-        if (c + 1 == cells_.size()) return;  // the study is complete: run() deletes the checkpoint
+        // The study is complete: run() deletes the checkpoint. Before a field sweep it is kept
+        // between the cells, so a resume goes on to the sweep.
+        if (c + 1 == cells_.size() && spec_.sweep_fields.empty()) return;
         const nlohmann::json history = {
             {"mode", options_.label}, {"stage_log", nlohmann::json::array()}, {"state", checkpoint_state()}};
         write_checkpoint(checkpoint_path(spec_, options_), scene_->resolved, s,
@@ -483,6 +487,7 @@ private:
     std::unique_ptr<Scene> scene_;
     ProtocolPosition resume_at_;
     nlohmann::json resumed_stage_log_;
+    bool resumed_ = false;
     Clock::time_point t0_, rate_started_;
 };
 }  // namespace

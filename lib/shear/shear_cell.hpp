@@ -15,6 +15,8 @@ namespace mrjam {
 
 struct ShearOptions {
     int threads = 1;
+    bool threads_given = true;  // false: a study of several runs shares the cores among them
+    int jobs = 0;               // runs side by side in a convergence study; 0: the machine's cores
     bool progress = true;
     std::string checkpoint_path;  // "" : <output directory>/shear_checkpoint.mrjam
     std::string label = "shear";  // progress prefix

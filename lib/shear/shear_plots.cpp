@@ -1,5 +1,7 @@
 #include "shear/shear_plots.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "io/svg_plot.hpp"
@@ -10,6 +12,20 @@ namespace {
 std::string sibling(const std::string& report_path, const std::string& suffix) {
     std::filesystem::path p(report_path);
     return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+const std::vector<std::string> kSizeColours{"#1f77b4", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#17becf"};
+
+// A horizontal line across [x0, x1] at y (kPa).
+PlotSeries level(const std::string& label, const std::string& colour, double x0, double x1, double y, bool dashed) {
+    PlotSeries s;
+    s.label = label;
+    s.colour = colour;
+    s.line = true;
+    s.dashed = dashed;
+    s.x = {x0, x1};
+    s.y = {y, y};
+    return s;
 }
 
 PlotSeries curve_series(const nlohmann::json& flow_curve, const std::string& label) {
@@ -123,6 +139,76 @@ std::string write_calibration_plot(const std::string& report_path, const nlohman
     const std::string path = sibling(report_path, "_calibration.svg");
     write_svg(path, plot);
     return path;
+}
+
+nlohmann::json write_convergence_plots(const std::string& report_path, const nlohmann::json& report) {
+    const auto& r = report["results"];
+    const std::string tier = report["fidelity"].value("tier", std::string());
+    double edge_lo = INFINITY, edge_hi = 0, rate_hi = 0;
+    for (const auto& s : r["sizes"]) {
+        edge_lo = std::min(edge_lo, s["edge_m"].get<double>() * 1e6);
+        edge_hi = std::max(edge_hi, s["edge_m"].get<double>() * 1e6);
+        for (const auto& q : s["flow_curve"]) rate_hi = std::max(rate_hi, q["rate_1_s"].get<double>());
+    }
+    Plot yield;
+    yield.title = "Yield stress against the cell's edge (" + tier + " tier, " +
+                  std::to_string(r["seeds_per_size"].get<int>()) + " seeds a size)";
+    yield.x_label = "cell edge (um)";
+    yield.y_label = "Bingham yield stress (kPa), error: larger of seed spread and fit";
+    PlotSeries sizes;
+    sizes.label = "each size";
+    for (const auto& s : r["sizes"])
+        if (s["yield_stress_Pa"].is_number()) {
+            sizes.x.push_back(s["edge_m"].get<double>() * 1e6);
+            sizes.y.push_back(s["yield_stress_Pa"].get<double>() * 1e-3);
+            sizes.error.push_back(s["yield_stress_error_Pa"].get<double>() * 1e-3);
+        }
+    yield.series.push_back(sizes);
+    if (r["yield_stress_Pa"].is_number()) {
+        const double y = r["yield_stress_Pa"].get<double>() * 1e-3, e = r["yield_stress_error_Pa"].get<double>() * 1e-3;
+        const std::string what = r["converged"].get<bool>() ? "converged" : "largest cell (not converged)";
+        yield.series.push_back(level(what, "#d62728", edge_lo, edge_hi, y, false));
+        yield.series.push_back(level(what + " +- error", "#d62728", edge_lo, edge_hi, y + e, true));
+        yield.series.push_back(level("", "#d62728", edge_lo, edge_hi, y - e, true));
+    }
+    const nlohmann::json experiment = r.value("experiment", nlohmann::json());
+    if (experiment.is_object() && experiment.contains("yield_stress_Pa"))
+        yield.series.push_back(level(experiment.value("label", std::string("experiment")), "#2ca02c", edge_lo, edge_hi,
+                                     experiment["yield_stress_Pa"].get<double>() * 1e-3, false));
+    const std::string yield_path = sibling(report_path, "_convergence.svg");
+    write_svg(yield_path, yield);
+
+    Plot curves;
+    curves.title = "Flow curves by cell size (mean of the seeds)";
+    curves.x_label = "shear rate (1/s)";
+    curves.y_label = "shear stress (kPa), error: larger of seed spread and block errors";
+    std::size_t k = 0;
+    for (const auto& s : r["sizes"]) {
+        if (s["flow_curve"].empty()) continue;
+        const std::string colour = kSizeColours[k++ % kSizeColours.size()];
+        char label[64];
+        std::snprintf(label, sizeof label, "%.0f um", s["edge_m"].get<double>() * 1e6);
+        PlotSeries points = curve_series(s["flow_curve"], label);
+        points.colour = colour;
+        curves.series.push_back(points);
+        const auto& b = s["bingham_of_mean_curve"];
+        if (!b.value("ok", false)) continue;
+        PlotSeries line;
+        line.label = std::string(label) + " Bingham";
+        line.line = true;
+        line.dashed = true;
+        line.colour = colour;
+        const double ty = b["yield_stress_Pa"].get<double>(), eta = b["plastic_viscosity_Pa_s"].get<double>();
+        for (double x : {0.0, rate_hi}) {
+            line.x.push_back(x);
+            line.y.push_back((ty + eta * x) * 1e-3);
+        }
+        curves.series.push_back(line);
+    }
+    add_experiment(curves, experiment, rate_hi);
+    const std::string curves_path = sibling(report_path, "_flow_curves.svg");
+    write_svg(curves_path, curves);
+    return {{"convergence", yield_path}, {"flow_curves", curves_path}};
 }
 
 }  // namespace mrjam

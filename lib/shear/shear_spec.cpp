@@ -318,11 +318,40 @@ void read_field_sweep(SceneNode sw, ShearSpec& s) {
     s.sweep_fields = sw.quantity_list("flux_densities", units::magnetic_flux_density, Bounds::non_negative());
     if (s.sweep_fields.empty())
         sw.fail("flux_densities", "needs at least one flux density, e.g. [\"100 mT\", \"300 mT\"]");
-    for (std::size_t k = 0; k < s.sweep_fields.size(); ++k)
+    for (std::size_t k = 0; k < s.sweep_fields.size(); ++k) {
         check_applied_flux_density(sw, "flux_densities/" + std::to_string(k), s.sweep_fields[k]);
+        // Each field is a study in its own folder: a repeat would be the same study.
+        for (std::size_t j = 0; j < k; ++j)
+            if (s.sweep_fields[j] == s.sweep_fields[k])
+                sw.fail("flux_densities/" + std::to_string(k),
+                        "repeats /field_sweep/flux_densities/" + std::to_string(j) + ": drop one");
+    }
     s.sweep_rate = sw.quantity("shear_rate", units::frequency, 100.0, Bounds::positive());
     s.sweep_strain = sw.number("strain", s.strain_per_rate > 0 ? s.strain_per_rate : 0.1, Bounds::positive());
     sw.finish();
+}
+
+// The convergence study's cell sizes and seeds. By default three edges, the cell's and 1.25 and
+// 1.5 times it (2 and 3.4 times the grains), three seeds each: enough to see whether the yield
+// stress still moves with the cell beyond its seed scatter.
+void read_convergence(std::optional<SceneNode> c, ShearSpec& s) {
+    const std::vector<double> defaults = {s.cell.x, 1.25 * s.cell.x, 1.5 * s.cell.x};
+    s.converge_cell_sizes = defaults;
+    if (!c) return;
+    if (c->has("cell_sizes")) {
+        s.converge_cell_sizes = c->quantity_list("cell_sizes", units::length, Bounds::positive());
+        if (s.converge_cell_sizes.size() < 3)
+            c->fail("cell_sizes",
+                    "needs at least three edges (e.g. [\"90 um\", \"112 um\", \"135 um\"]) to tell a "
+                    "plateau from a trend");
+        for (std::size_t k = 1; k < s.converge_cell_sizes.size(); ++k)
+            if (!(s.converge_cell_sizes[k] > s.converge_cell_sizes[k - 1]))
+                c->fail("cell_sizes/" + std::to_string(k), "the edges must increase");
+    } else {
+        c->resolved_child("cell_sizes") = defaults;
+    }
+    s.converge_seeds = static_cast<int>(c->integer("seeds", 3, 2, 1000));
+    c->finish();
 }
 
 // The experiment to plot and compare against: a yield stress, a flow curve.
@@ -395,6 +424,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     read_optional_block(root, "measure", s.resolved, [&](SceneNode n) { read_measure_block(n, s); });
     read_optional_block(root, "fit", s.resolved, [&](SceneNode n) { read_fit_block(n, s); });
     if (auto sw = root.optional_object("field_sweep")) read_field_sweep(*sw, s);
+    read_convergence(root.optional_object("convergence"), s);
     if (auto ex = root.optional_object("experiment")) read_experiment(*ex, s);
     read_optional_block(root, "output", s.resolved, [&](SceneNode n) { read_output_block(n, s); });
     root.finish();

@@ -59,6 +59,11 @@ struct ShearSpec {
     double sweep_rate = 100;
     double sweep_strain = 0.1;
 
+    // The convergence study (`mrjam shear --converge`, shear/convergence.hpp): the cell's edge
+    // (x and z; y too unless a monolayer) at each size, and the seeds run at each.
+    std::vector<double> converge_cell_sizes;  // m, increasing
+    int converge_seeds = 3;
+
     nlohmann::json experiment;  // reference data to compare with (echoed, plotted)
     std::string output_directory = ".";
     double progress_interval = 5;

@@ -109,6 +109,8 @@ bool sweep_has_mpi() {
 #endif
 }
 
+std::unique_ptr<PointQueue> make_local_queue() { return std::make_unique<LocalQueue>(); }
+
 std::unique_ptr<PointQueue> make_point_queue() {
 #ifdef MRJAM_WITH_MPI
     if (started_by_mpirun()) {

@@ -39,6 +39,9 @@ protected:
 // initialised once and finalised at exit).
 std::unique_ptr<PointQueue> make_point_queue();
 
+// The points in order, in this process alone (a mode that sweeps inside itself).
+std::unique_ptr<PointQueue> make_local_queue();
+
 // Whether this build can run a sweep under mpirun (the report of `mrjam sweep --help` says so).
 bool sweep_has_mpi();
 

@@ -68,8 +68,8 @@ std::string shown(const json& v) {
 Plot picture(const SweepPlot& p, const std::vector<Sample>& samples, const std::string& title,
              const std::string& y_note) {
     Plot plot;
-    plot.title = title;
-    plot.y_label = p.output + y_note;
+    plot.title = p.title.empty() ? title : p.title;
+    plot.y_label = p.y_label.empty() ? p.output + y_note : p.y_label;
     std::string unit;
     std::vector<std::string> words;  // x values that are words without a number, in order
     for (const Sample& s : samples)
@@ -77,8 +77,9 @@ Plot picture(const SweepPlot& p, const std::vector<Sample>& samples, const std::
             std::find(words.begin(), words.end(), shown(s.values[p.x])) == words.end())
             words.push_back(shown(s.values[p.x]));
     plot.x_label = p.x + (unit.empty() || unit == "1" ? "" : " (" + unit + ")");
+    if (!p.x_label.empty()) plot.x_label = p.x_label;
     if (!words.empty()) {
-        plot.x_label = p.x + ":";
+        plot.x_label = (p.x_label.empty() ? p.x : p.x_label) + ":";
         for (std::size_t k = 0; k < words.size(); ++k) plot.x_label += " " + std::to_string(k + 1) + " = " + words[k];
     }
     std::map<std::string, std::size_t> series_of;
@@ -138,7 +139,16 @@ std::vector<std::string> write_sweep_plots(const SweepSpec& spec, const json& ta
                 y_note = out.contains("share")  ? " (share of the seeds, 95 % interval)"
                          : out.contains("mean") ? " (mean and sd over the seeds)"
                                                 : "";
-            pictures[title].push_back(sample_of(e["values"], out, aggregated));
+            Sample sample = sample_of(e["values"], out, aggregated);
+            // A row's own interval (a jam probability over a design's seeds), where the output has one.
+            const json ci = e.contains("outputs_95ci") ? e["outputs_95ci"].value(p.output, json()) : json();
+            if (!aggregated && ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number() &&
+                !std::isnan(sample.y)) {
+                sample.below = sample.y - ci[0].get<double>();
+                sample.above = ci[1].get<double>() - sample.y;
+                if (y_note.empty()) y_note = " (95 % interval)";
+            }
+            pictures[title].push_back(sample);
         }
         std::string stem = "plot_" + p.output + "_vs_" + p.x;
         for (char& c : stem)

@@ -25,13 +25,15 @@ struct SweepAxis {
 };
 
 struct SweepOutput {
-    std::string name;  // the table's column
-    std::string path;  // where in the mode's report ("results/jammed")
+    std::string name;                // the table's column
+    std::string path;                // where in the mode's report ("results/jammed")
+    std::string interval_path = "";  // a [low, high] interval of it in the report (bars in the plots), if any
 };
 
 // A picture of one output against one swept key, a line per value of another (or one line).
 struct SweepPlot {
-    std::string output, x, lines;  // lines may be empty
+    std::string output, x, lines;                        // lines may be empty
+    std::string title = "", x_label = "", y_label = "";  // "": from the output's and the keys' names
 };
 
 struct SweepSpec {

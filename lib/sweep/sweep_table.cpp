@@ -102,6 +102,16 @@ std::string csv_cell(const json& v) {
     return quoted + "\"";
 }
 
+// Whether the report has the path at all (a null there is a value the mode wrote: a jam
+// probability with no seed judged, say), so a misspelt path is told from an empty result.
+bool report_has(const json& report, const std::string& path) {
+    try {
+        return report.contains(json::json_pointer("/" + path));
+    } catch (const json::exception&) {
+        return false;
+    }
+}
+
 }  // namespace
 
 json report_value(const json& report, const std::string& path) {
@@ -123,8 +133,10 @@ json sweep_table(const SweepSpec& spec, const std::vector<SweepRow>& rows) {
         done += r.state == "done";
         for (std::size_t k = 0; k < spec.outputs.size(); ++k) {
             const json v = r.state == "done" ? report_value(r.report, spec.outputs[k].path) : json();
-            found[k] += !v.is_null();
+            found[k] += r.state == "done" && report_has(r.report, spec.outputs[k].path);
             row["outputs"][spec.outputs[k].name] = v;
+            if (!spec.outputs[k].interval_path.empty() && r.state == "done")
+                row["outputs_95ci"][spec.outputs[k].name] = report_value(r.report, spec.outputs[k].interval_path);
         }
         table["rows"].push_back(row);
     }
