@@ -4,8 +4,10 @@ set -euo pipefail
 # libgmsh-dev (meshing, C++ API) and getdp (solver, run as a program) serve `mrjam magnetics`;
 # librsvg2-dev renders the plots' PNG twins (with DejaVu for their text);
 # Open MPI serves `mpirun -np N mrjam sweep` (a build without it still sweeps in one process).
+# `--bench` adds the peers the benchmarks run side by side with mrjam (LIGGGHTS 3.8, callgrind).
 packages=(build-essential cmake libeigen3-dev libpng-dev libcli11-dev nlohmann-json3-dev doctest-dev libgmsh-dev getdp
           libopenmpi-dev openmpi-bin librsvg2-dev fonts-dejavu-core)
+if [ "${1:-}" = "--bench" ]; then packages+=(liggghts valgrind jq); fi
 missing=()
 for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 if [ ${#missing[@]} -gt 0 ]; then

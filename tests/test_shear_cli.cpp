@@ -60,6 +60,10 @@ TEST_SUITE("cli") {
             CHECK(q["rate_1_s"].get<double>() > 0);
             CHECK(q["stress_Pa"].is_number());
             CHECK(q["error_Pa"].get<double>() >= 0);
+            // Where the stress settles: within the rate's strain (MSER searches its first half).
+            CHECK(q["steady_from_strain"].get<double>() >= 0);
+            CHECK(q["steady_from_strain"].get<double>() <= 0.5 * q["strain"].get<double>() * (1 + 1e-12));
+            CHECK(q["steady_before_window"].is_boolean());
         }
         CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
         REQUIRE(res["yield_stress_Pa"].is_number());
@@ -87,7 +91,7 @@ TEST_SUITE("cli") {
         twice["field_sweep"]["flux_densities"] = {"200 mT", "0.2 T"};
         expect_shear_refused(dir, "field_twice", twice, "/field_sweep/flux_densities/1");
         CHECK(rep["inputs"]["ladder"]["strain_first"] == 0.1);  // the recipe is echoed
-        for (const char* key : {"flow_curve", "field_sweep"}) {
+        for (const char* key : {"flow_curve", "field_sweep", "stress_strain"}) {
             const std::string svg = slurp(rep["plots"][key].get<std::string>());
             CHECK(svg.rfind("<svg", 0) == 0);
         }

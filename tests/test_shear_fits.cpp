@@ -8,6 +8,7 @@
 #include "rel_approx.hpp"
 #include "shear/block_average.hpp"
 #include "shear/flow_curve_fit.hpp"
+#include "shear/steady_state.hpp"
 
 using mrjam_test::rel;
 
@@ -126,4 +127,25 @@ TEST_SUITE("unit") {
         CHECK(odd.mean == rel(2.5));
     }
 
+    TEST_CASE("steady state: MSER finds the end of a transient, and none in a stationary series") {
+        std::mt19937 rng(7);
+        std::normal_distribution<double> noise(0.0, 1.0);
+        // A stress rising linearly for 10 samples to a plateau 20 standard deviations up, then 30 noisy samples.
+        std::vector<double> rising;
+        for (int i = 0; i < 10; ++i) rising.push_back(2.0 * i + noise(rng));
+        for (int i = 0; i < 30; ++i) rising.push_back(20.0 + noise(rng));
+        const std::size_t d = mser_truncation(rising);
+        CHECK(d >= 9);
+        CHECK(d <= 11);
+        // Stationary noise: whatever MSER drops is a few samples of chance, far less than the half it may.
+        std::vector<double> steady;
+        for (int i = 0; i < 40; ++i) steady.push_back(5.0 + noise(rng));
+        CHECK(mser_truncation(steady) < 10);
+        // A transient longer than half the series: MSER stops at the half (the rate never settled
+        // within what it could judge), which the report flags as not steady before the window.
+        std::vector<double> slow;
+        for (int i = 0; i < 40; ++i) slow.push_back(i < 30 ? i : 30.0);
+        CHECK(mser_truncation(slow) == 20);
+        CHECK(mser_truncation({1.0, 2.0}) == 0);  // too short to judge
+    }
 }  // TEST_SUITE

@@ -21,6 +21,7 @@
 #include "shear/shear_analysis.hpp"
 #include "shear/shear_progress.hpp"
 #include "shear/shear_stress.hpp"
+#include "shear/steady_state.hpp"
 #include "timestep.hpp"
 
 namespace mrjam {
@@ -426,10 +427,17 @@ private:
             return block_average(std::vector<double>(all.end() - std::min(keep, all.size()), all.end()), spec_.blocks);
         };
         const BlockAverage up = window(cur.upper), bulk = window(cur.bulk);
+        // Where the stress settles (MSER), against where the averaged window starts: a series still
+        // drifting into the window biases the mean, and the report says so.
+        const std::size_t n = cur.upper.size(), settled = mser_truncation(cur.upper);
+        const double strain = total * s.dt * plan.rates[k];
+        const double settle_strain = n > 0 ? strain * static_cast<double>(settled) / static_cast<double>(n) : 0.0;
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
-                               {"strain", total * s.dt * plan.rates[k]},
+                               {"strain", strain},
+                               {"steady_from_strain", settle_strain},
+                               {"steady_before_window", settled <= n - up.samples},
                                {"sample_every_steps", scene_->stages[k + 1].observe_every},
                                {"stress_Pa", up.mean},
                                {"error_Pa", up.error},

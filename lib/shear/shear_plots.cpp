@@ -80,6 +80,49 @@ void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) 
     }
 }
 
+// Each rate's raft stress against the shear strain since the first rate began, with where the
+// stress settles (MSER) marked: how much of each rate is transient.
+Plot stress_strain_plot(const nlohmann::json& r) {
+    Plot plot;
+    plot.title = "Stress against strain, rate by rate";
+    plot.x_label = "shear strain since the first rate";
+    plot.y_label = "shear stress (kPa)";
+    PlotSeries settle;
+    settle.label = "steady from (MSER)";
+    settle.colour = "#000000";
+    settle.hollow = true;
+    double before = 0;
+    const auto& curve = r["flow_curve"];
+    const auto& series = r["stress_series_upper_Pa"];
+    for (std::size_t k = 0; k < curve.size() && k < series.size(); ++k) {
+        const auto& q = curve[k];
+        const double strain = q["strain"].get<double>();
+        const double per_sample =
+            strain * q["sample_every_steps"].get<double>() / std::max(1.0, q["steps"].get<double>());
+        PlotSeries line;
+        char label[48];
+        std::snprintf(label, sizeof label, "%.4g 1/s", q["rate_1_s"].get<double>());
+        line.label = label;
+        line.line = true;
+        line.colour = kSizeColours[k % kSizeColours.size()];
+        const auto& samples = series[k]["samples"];
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            line.x.push_back(before + per_sample * static_cast<double>(i + 1));
+            line.y.push_back(samples[i].get<double>() * 1e-3);
+        }
+        if (q.contains("steady_from_strain") && !samples.empty()) {
+            const double at = q["steady_from_strain"].get<double>();
+            const auto i = std::min(samples.size() - 1, static_cast<std::size_t>(std::max(0.0, at / per_sample)));
+            settle.x.push_back(before + per_sample * static_cast<double>(i + 1));
+            settle.y.push_back(samples[i].get<double>() * 1e-3);
+        }
+        plot.series.push_back(line);
+        before += strain;
+    }
+    if (!settle.x.empty()) plot.series.push_back(settle);
+    return plot;
+}
+
 }  // namespace
 
 nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann::json& report) {
@@ -97,6 +140,11 @@ nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann:
     const std::string fc = sibling(report_path, "_flow_curve.svg");
     write_svg(fc, plot);
     paths["flow_curve"] = fc;
+    if (r.contains("stress_series_upper_Pa") && !r["flow_curve"].empty()) {
+        const std::string ss = sibling(report_path, "_stress_strain.svg");
+        write_svg(ss, stress_strain_plot(r));
+        paths["stress_strain"] = ss;
+    }
     if (r.contains("field_sweep") && !r["field_sweep"].empty()) {
         Plot f;
         f.title = "Stress vs field at " +
