@@ -44,7 +44,7 @@ json tiny_scene(const std::string& out, long checkpoint_every, bool closed_first
           {"release_time", "0.015 ms"},
           {"observe_every_steps", 20}}},
         {"output", {{"directory", out}}}};
-    if (checkpoint_every > 0) scene["output"]["checkpoint_every_steps"] = checkpoint_every;
+    if (checkpoint_every > 0) scene["output"]["checkpoint"] = {{"every_steps", checkpoint_every}};
     if (closed_first)
         scene["protocol"].update(
             {{"order", "closed_first"}, {"magnetise_time", "0.03 ms"}, {"settle_window", "0.01 ms"}});

@@ -59,8 +59,7 @@ nlohmann::json avalanche_engine_scene(const AvalancheSpec& s) {
         {"run",
          {{"timestep_safety", s.timestep_safety},
           {"characteristic_speed", std::sqrt(2.0 * s.gravity * s.fill_height * d)}}},
-        {"output",
-         {{"directory", s.output_directory}, {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
+        {"output", engine_output_json(s.output)}};
     if (s.field > 0)
         j["magnetic"] = {
             {"field", {{"type", "uniform"}, {"flux_density", {0.0, 0.0, s.field}}, {"switch_on", s.settle_time}}},

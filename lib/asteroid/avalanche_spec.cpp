@@ -79,9 +79,8 @@ AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string
     read_cell(optional("cell"), s, fidelity);
     read_protocol(root.object("protocol"), s);
     SceneNode out = optional("output");
-    s.output_directory = out.text("directory", "out/asteroid_avalanche");
-    s.checkpoint_every_seconds = out.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
-    out.finish();
+    s.output = read_output_block(out, "out/asteroid_avalanche");
+    s.output_directory = s.output.directory;
     root.finish();
     return s;
 }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "asteroid/grain_material.hpp"
+#include "scene/output_block.hpp"
 
 namespace mrjam {
 
@@ -29,8 +30,8 @@ struct AvalancheSpec {
     double settle_time = 0, magnetise_time = 0, runout_time = 0;  // s; the run-out ends at rest sooner
     double rest_speed = 0;                                        // m/s, rms speed that counts as at rest
     double timestep_safety = 0.1;
-    std::string output_directory;
-    double checkpoint_every_seconds = 600;
+    std::string output_directory;  // output.directory
+    OutputBlock output;
 };
 
 // Reads and checks the scene at a tier (the cell's defaults: quick 100 x 8 x 30 diameters with a

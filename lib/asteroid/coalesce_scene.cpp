@@ -70,10 +70,7 @@ nlohmann::json coalesce_engine_scene(const CoalesceSpec& s, const CloudLayout& l
                          {{"duration", s.duration},
                           {"timestep_safety", s.timestep_safety},
                           {"characteristic_speed", characteristic_speed(s, l)}}},
-                        {"output",
-                         {{"directory", s.output_directory},
-                          {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}},
-                          {"progress_interval", 10.0}}}};
+                        {"output", engine_output_json(s.output)}};
     if (s.seed_diameter > 0) {
         j["materials"].push_back(material_json("seed", s.material, s.seed_magnetisation));
         j["grains"].push_back({{"material", "seed"},

@@ -71,13 +71,8 @@ void read_forces_and_output(SceneNode& root, CoalesceSpec& s, const std::string&
     s.magnetic_cutoff = m.number("cutoff_diameters", 3.0, Bounds::closed(2, 20));
     s.magnetic_interval = static_cast<int>(m.integer("update_interval", quick ? 4 : 1, 1, 100));
     m.finish();
-    if (auto out = root.optional_object("output")) {
-        s.output_directory = out->text("directory", s.output_directory);
-        s.checkpoint_every_seconds = out->quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
-        out->finish();
-    } else {
-        root.resolved_child("output")["directory"] = s.output_directory;
-    }
+    s.output = read_output_block(optional("output"), s.output_directory);
+    s.output_directory = s.output.directory;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "asteroid/grain_material.hpp"
+#include "scene/output_block.hpp"
 
 namespace mrjam {
 
@@ -35,14 +36,14 @@ struct CoalesceSpec {
     bool allow_unbound = false;
     bool direct_gravity = false;  // direct summation (the reference) instead of the tree
     double opening_angle = 0.5;
-    int gravity_interval = 10;              // steps the self-gravity is held
-    double magnetic_cutoff = 3;             // in pair diameters (the source's three diameters)
-    int magnetic_interval = 1;              // steps the dipole forces are held
-    double duration = 0;                    // s
-    double sample_every = 0;                // s between body diagnostics
-    double timestep_safety = 0.1;           // automatic step as a share of the critical time
-    std::string output_directory;           //
-    double checkpoint_every_seconds = 600;  // wall time
+    int gravity_interval = 10;     // steps the self-gravity is held
+    double magnetic_cutoff = 3;    // in pair diameters (the source's three diameters)
+    int magnetic_interval = 1;     // steps the dipole forces are held
+    double duration = 0;           // s
+    double sample_every = 0;       // s between body diagnostics
+    double timestep_safety = 0.1;  // automatic step as a share of the critical time
+    std::string output_directory;  // output.directory
+    OutputBlock output;
 };
 
 // The source's "temperature of 8e20 times the cube of the particle diameter" read as k_B T with T

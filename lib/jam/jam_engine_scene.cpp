@@ -118,9 +118,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
     json flow_json = {
         {"type", "valve"}, {"valve", valve_si}, {"bore_speed", js.flow.bore_speed}, {"profile", in.profile}};
     if (in.profile == "converging") flow_json["jet_length"] = js.flow.jet_length;
-    json output_json = {{"directory", in.directory}};
-    if (in.snapshot_every > 0) output_json["snapshots"] = {{"format", "vtk"}, {"every", in.snapshot_every}};
-    if (in.checkpoint_every > 0) output_json["checkpoint"] = {{"every_steps", in.checkpoint_every}};
+    const json output_json = engine_output_json(in.output);
     // Rolling resistance (EPSD, as the source's chapter 2) and cohesion (SJKR) only when asked for.
     json contact_json = {{"model", "hertz_mindlin"}};
     if (in.material["rolling_friction"].get<double>() > 0) contact_json["rolling"] = "epsd";

@@ -7,26 +7,26 @@
 #include <vector>
 
 #include "jam/jam_scene.hpp"
+#include "scene/output_block.hpp"
 
 namespace mrjam {
 
 // What read_jam_scene() read that the JamScene itself does not keep.
 struct JamEngineInputs {
     long long seed = 1;
-    nlohmann::json material;                             // the grains' engine material, named "iron"
-    std::vector<double> diameters, mass;                 // the size table, m and relative mass
-    std::string profile;                                 // fluid/profile (prescribed shape of the carrier flow)
-    double viscosity = 0;                                // Pa s
-    nlohmann::json field;                                // the engine's magnetic/field block
-    double cutoff_diameters = 0;                         // the dipoles' cutoff; 0 leaves the engine tier's
-    long long magnetic_update_interval = 1;              // steps between magnetic evaluations
-    double close_pairs_min_gap = 0;                      // the linear close-pair correction's floor in radii; 0: off
-    bool close_pairs_saturating = false;                 // the saturating close-pair correction
-    long long flow_lookup_interval = 1;                  // steps between carrier-flow lookups at the grains
-    double neighbour_skin = 0;                           // Verlet skin, of the mean diameter (0: the engine's)
-    bool frictionless_slab = true;                       // model/slab_faces
-    std::string directory;                               // output/directory
-    long long snapshot_every = 0, checkpoint_every = 0;  // steps; 0: none
+    nlohmann::json material;                 // the grains' engine material, named "iron"
+    std::vector<double> diameters, mass;     // the size table, m and relative mass
+    std::string profile;                     // fluid/profile (prescribed shape of the carrier flow)
+    double viscosity = 0;                    // Pa s
+    nlohmann::json field;                    // the engine's magnetic/field block
+    double cutoff_diameters = 0;             // the dipoles' cutoff; 0 leaves the engine tier's
+    long long magnetic_update_interval = 1;  // steps between magnetic evaluations
+    double close_pairs_min_gap = 0;          // the linear close-pair correction's floor in radii; 0: off
+    bool close_pairs_saturating = false;     // the saturating close-pair correction
+    long long flow_lookup_interval = 1;      // steps between carrier-flow lookups at the grains
+    double neighbour_skin = 0;               // Verlet skin, of the mean diameter (0: the engine's)
+    bool frictionless_slab = true;           // model/slab_faces
+    OutputBlock output;                      // the scene's output block, passed to the engine
 };
 
 nlohmann::json jam_engine_scene(const JamScene& js, const JamEngineInputs& in);

@@ -538,14 +538,11 @@ void read_protocol_block(SceneNode protocol, const JamFlow& flow, JamProtocol& p
 }
 
 // Where the run writes: its directory (checkpoints), snapshots and checkpoints by step count.
-void read_output_block(SceneNode output, JamEngineInputs& engine) {
-    engine.directory = output.text("directory", "out/jam");
-    if (engine.directory.empty())
-        output.fail("directory", "must name a directory for the checkpoint, e.g. \"out/jam\"");
-    engine.snapshot_every = output.integer("snapshot_every_steps", 0, 0);
-    // Checkpoints every N steps (besides every 10 minutes and on Ctrl-C) for `mrjam jam --resume`.
-    engine.checkpoint_every = output.integer("checkpoint_every_steps", 0, 0);
-    output.finish();
+void read_jam_output(SceneNode output, JamEngineInputs& engine) {
+    // Each seed's checkpoint goes where the campaign and `--resume` look for it.
+    engine.output = read_output_block(output, "out/jam",
+                                      "the jam run keeps each seed's checkpoint as checkpoint.mrjam in "
+                                      "output/directory, where --resume finds it: drop path");
 }
 
 }  // namespace
@@ -579,7 +576,7 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     engine.field = read_field_block(root.object("field"), base_directory, out);
     read_protocol_block(root.object("protocol"), out.flow, out.protocol);
     read_continuum(root, tier, base_directory, out);
-    read_output_block(root.object("output"), engine);
+    read_jam_output(root.object("output"), engine);
     root.finish();
     out.engine_scene = jam_engine_scene(out, engine);
     return out;

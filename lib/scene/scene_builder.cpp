@@ -11,6 +11,7 @@
 #include "run/interrupt.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/memory_estimate.hpp"
+#include "scene/output_block.hpp"
 #include "scene/plausibility.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_parts.hpp"
@@ -365,25 +366,15 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
 }
 
 void read_output(SceneNode node, OutputPlan& out) {
-    out.directory = node.text("directory", ".");
-    if (auto snap = node.optional_object("snapshots")) {
-        try {
-            out.snapshot_format = snapshot_format_from_name(snap->text("format", "vtk"));
-        } catch (const std::invalid_argument& e) {
-            snap->fail("format", e.what());
-        }
-        out.snapshot_every = snap->integer("every", std::nullopt, 1);
-        out.snapshots = true;
-        snap->finish();
-    }
-    if (auto ck = node.optional_object("checkpoint")) {
-        out.checkpoint_every_steps = ck->integer("every_steps", 0, 0);
-        out.checkpoint_every_seconds = ck->quantity("every_seconds", units::time, 600.0, Bounds::positive());
-        out.checkpoint_path = ck->text("path", "");
-        ck->finish();
-    }
-    out.progress_interval_s = node.quantity("progress_interval", units::time, 5.0, Bounds::positive());
-    node.finish();
+    const OutputBlock block = read_output_block(node, ".");
+    out.directory = block.directory;
+    out.snapshots = block.snapshots;
+    if (block.snapshots) out.snapshot_format = snapshot_format_from_name(block.snapshot_format);
+    out.snapshot_every = block.snapshot_every;
+    out.checkpoint_every_steps = block.checkpoint_every_steps;
+    out.checkpoint_every_seconds = block.checkpoint_every_seconds;
+    out.checkpoint_path = block.checkpoint_path;
+    out.progress_interval_s = block.progress_interval;
 }
 
 }  // namespace

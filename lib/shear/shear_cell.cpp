@@ -11,6 +11,7 @@
 #include "core/format.hpp"
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
+#include "io/snapshot.hpp"
 #include "observers.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
@@ -288,10 +289,12 @@ private:
         OutputPlan& out = scene_->output;
         out.directory = spec_.output_directory;
         out.checkpoint_path = checkpoint_path(spec_, options_);
-        out.checkpoint_every_seconds = spec_.checkpoint_every_seconds;
-        out.checkpoint_every_steps = 0;
-        out.snapshots = false;
-        out.progress_interval_s = spec_.progress_interval;
+        out.checkpoint_every_seconds = spec_.output.checkpoint_every_seconds;
+        out.checkpoint_every_steps = spec_.output.checkpoint_every_steps;
+        out.snapshots = spec_.output.snapshots;
+        if (out.snapshots) out.snapshot_format = snapshot_format_from_name(spec_.output.snapshot_format);
+        out.snapshot_every = spec_.output.snapshot_every;
+        out.progress_interval_s = spec_.output.progress_interval;
     }
 
     // Magnetisation criterion: at every check, the contacts per grain and the mean |cos| of

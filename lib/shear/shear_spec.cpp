@@ -241,11 +241,11 @@ void read_fit_block(SceneNode f, ShearSpec& s) {
 }
 
 // The output block (every key has a default: the block may be left out).
-void read_output_block(SceneNode o, ShearSpec& s) {
-    s.output_directory = o.text("directory", "out/shear");
-    s.progress_interval = o.quantity("progress_interval", units::time, 5.0, Bounds::positive());
-    s.checkpoint_every_seconds = o.quantity("checkpoint_every_seconds", units::time, 600.0, Bounds::positive());
-    o.finish();
+void read_shear_output(SceneNode o, ShearSpec& s) {
+    s.output = read_output_block(o, "out/shear",
+                                 "the study keeps its checkpoint as shear_checkpoint.mrjam in output/directory (its "
+                                 "field sweep's and convergence runs' beside it): drop path");
+    s.output_directory = s.output.directory;
 }
 
 // How full the cell is: a monolayer by area, a 3D cell by volume.
@@ -426,7 +426,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     if (auto sw = root.optional_object("field_sweep")) read_field_sweep(*sw, s);
     read_convergence(root.optional_object("convergence"), s);
     if (auto ex = root.optional_object("experiment")) read_experiment(*ex, s);
-    read_optional_block(root, "output", s.resolved, [&](SceneNode n) { read_output_block(n, s); });
+    read_optional_block(root, "output", s.resolved, [&](SceneNode n) { read_shear_output(n, s); });
     root.finish();
     return s;
 }
@@ -447,10 +447,7 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
            {"size", s.size_table},
            {"placement", {{"method", "random"}, {"volume_fraction", s.volume_fraction}}}}}},
         {"run", s.run},
-        {"output",
-         {{"directory", s.output_directory},
-          {"progress_interval", s.progress_interval},
-          {"checkpoint", {{"every_seconds", s.checkpoint_every_seconds}}}}}};
+        {"output", engine_output_json(s.output)}};
     scene["run"]["steps"] = 0;
     if (s.monolayer) {
         // Centres in the mid-plane y = Y/2, no y images, no y walls: the integrator holds them there.

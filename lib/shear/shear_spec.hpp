@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/vec3.hpp"
+#include "scene/output_block.hpp"
 #include "shear/shear_tiers.hpp"
 
 namespace mrjam {
@@ -64,10 +65,9 @@ struct ShearSpec {
     std::vector<double> converge_cell_sizes;  // m, increasing
     int converge_seeds = 3;
 
-    nlohmann::json experiment;  // reference data to compare with (echoed, plotted)
-    std::string output_directory = ".";
-    double progress_interval = 5;
-    double checkpoint_every_seconds = 600;
+    nlohmann::json experiment;           // reference data to compare with (echoed, plotted)
+    std::string output_directory = ".";  // output.directory
+    OutputBlock output;
 
     // The sheared height: between the rafts' inner faces, or the whole period with Lees-Edwards.
     double gap() const { return cell.z - 2 * raft_thickness; }
