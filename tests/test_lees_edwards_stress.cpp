@@ -62,7 +62,7 @@ TEST_SUITE("physics") {
         CHECK(v.mean > 5 * v.error);  // a real, resolved stress, not noise about zero
         // Equal up to three standard errors of the paired difference and the omitted kinetic flux.
         CHECK(std::abs(d.mean) <= 3 * d.error + kinetic_bound);
-        std::filesystem::remove_all(spec.output_directory);
+        std::filesystem::remove_all(spec.output.directory);
     }
 
 }  // TEST_SUITE

@@ -78,7 +78,7 @@ TEST_SUITE("unit") {
             {"output",
              {{"directory", "o"}, {"snapshots", {{"every", 1000}}}, {"checkpoint", {{"every_steps", 20000}}}}}};
         const mrjam::ShearSpec s = mrjam::read_shear_spec(shear, "quick");
-        CHECK(s.output_directory == "o");
+        CHECK(s.output.directory == "o");
         CHECK(s.output.snapshots);
         CHECK(s.output.checkpoint_every_steps == 20000);
         json with_path = shear;

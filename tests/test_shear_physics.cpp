@@ -160,7 +160,7 @@ TEST_SUITE("physics") {
             CHECK(std::abs(bulk - mean) <= tol * std::abs(mean) + 3 * std::hypot(e_bulk, e_mean));
             CHECK(std::abs(up - lo) <= 0.15 * std::abs(mean) + 3 * std::hypot(e_up, e_lo));
         }
-        std::filesystem::remove_all(spec.output_directory);
+        std::filesystem::remove_all(spec.output.directory);
     }
 
 }  // TEST_SUITE

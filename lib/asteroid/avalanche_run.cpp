@@ -222,7 +222,7 @@ CoalesceOutcome Avalanche::run() {
 }  // namespace
 
 CoalesceOutcome run_avalanche(const AvalancheSpec& spec, const CoalesceOptions& options) {
-    return run_fresh<Avalanche>(spec, spec.output_directory, options);
+    return run_fresh<Avalanche>(spec, spec.output.directory, options);
 }
 
 CoalesceOutcome resume_avalanche(const std::string& checkpoint, const CoalesceOptions& options) {

@@ -80,7 +80,6 @@ AvalancheSpec read_avalanche_spec(const nlohmann::json& scene, const std::string
     read_protocol(root.object("protocol"), s);
     SceneNode out = optional("output");
     s.output = read_output_block(out, "out/asteroid_avalanche");
-    s.output_directory = s.output.directory;
     root.finish();
     return s;
 }

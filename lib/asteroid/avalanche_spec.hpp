@@ -30,8 +30,7 @@ struct AvalancheSpec {
     double settle_time = 0, magnetise_time = 0, runout_time = 0;  // s; the run-out ends at rest sooner
     double rest_speed = 0;                                        // m/s, rms speed that counts as at rest
     double timestep_safety = 0.1;
-    std::string output_directory;  // output.directory
-    OutputBlock output;
+    OutputBlock output;  // output.directory: where the run writes
 };
 
 // Reads and checks the scene at a tier (the cell's defaults: quick 100 x 8 x 30 diameters with a

@@ -153,7 +153,7 @@ CoalesceOutcome Coalescence::run() {
 }  // namespace
 
 CoalesceOutcome run_coalescence(const CoalesceSpec& spec, const CoalesceOptions& options) {
-    return run_fresh<Coalescence>(spec, spec.output_directory, options);
+    return run_fresh<Coalescence>(spec, spec.output.directory, options);
 }
 
 CoalesceOutcome resume_coalescence(const std::string& checkpoint, const CoalesceOptions& options) {

@@ -71,8 +71,7 @@ void read_forces_and_output(SceneNode& root, CoalesceSpec& s, const std::string&
     s.magnetic_cutoff = m.number("cutoff_diameters", 3.0, Bounds::closed(2, 20));
     s.magnetic_interval = static_cast<int>(m.integer("update_interval", quick ? 4 : 1, 1, 100));
     m.finish();
-    s.output = read_output_block(optional("output"), s.output_directory);
-    s.output_directory = s.output.directory;
+    s.output = read_output_block(optional("output"), s.output.directory);
 }
 
 }  // namespace
@@ -109,7 +108,7 @@ CoalesceSpec read_coalesce_spec(const nlohmann::json& scene, const std::string& 
     CoalesceSpec s;
     s.resolved = nlohmann::json::object();
     SceneNode root(scene, s.resolved, "");
-    s.output_directory = "out/asteroid_coalesce";
+    s.output.directory = "out/asteroid_coalesce";
     read_rubble_blocks(root, s, fidelity);
     read_run_block(root, s, std::nullopt);
     root.finish();

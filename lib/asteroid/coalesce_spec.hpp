@@ -42,8 +42,7 @@ struct CoalesceSpec {
     double duration = 0;           // s
     double sample_every = 0;       // s between body diagnostics
     double timestep_safety = 0.1;  // automatic step as a share of the critical time
-    std::string output_directory;  // output.directory
-    OutputBlock output;
+    OutputBlock output;            // output.directory: where the run writes (set to the mode's default before reading)
 };
 
 // The source's "temperature of 8e20 times the cube of the particle diameter" read as k_B T with T
@@ -53,7 +52,7 @@ double thermal_speed_from_temperature(double density);
 class SceneNode;
 
 // The blocks a rubble-pile scene shares (description, seed, grains, cloud, self_gravity, magnetic,
-// output; `s.output_directory` is the default directory), read from `root` without finishing
+// output; `s.output.directory` is the default directory), read from `root` without finishing
 // it, so a mode can read its own blocks after.
 void read_rubble_blocks(SceneNode& root, CoalesceSpec& s, const std::string& fidelity);
 // The run block: `duration` (required unless the mode computes it and passes it in),

@@ -288,7 +288,7 @@ CoalesceOutcome SpinUp::run() {
 }  // namespace
 
 CoalesceOutcome run_spinup(const SpinupSpec& spec, const CoalesceOptions& options) {
-    return run_fresh<SpinUp>(spec, spec.body.output_directory, options);
+    return run_fresh<SpinUp>(spec, spec.body.output.directory, options);
 }
 
 CoalesceOutcome resume_spinup(const std::string& checkpoint, const CoalesceOptions& options) {

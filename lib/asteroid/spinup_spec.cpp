@@ -37,7 +37,7 @@ SpinupSpec read_spinup_spec(const nlohmann::json& scene, const std::string& fide
     CoalesceSpec& b = s.body;
     b.resolved = nlohmann::json::object();
     SceneNode root(scene, b.resolved, "");
-    b.output_directory = "out/asteroid_spinup";
+    b.output.directory = "out/asteroid_spinup";
     read_rubble_blocks(root, b, fidelity);
     read_protocol(root.object("spin_up"), s, fidelity);
     double total = s.settle_time;

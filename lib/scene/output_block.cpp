@@ -41,6 +41,19 @@ OutputBlock read_output_block(SceneNode node, const std::string& default_directo
     return out;
 }
 
+OutputPlan output_plan(const OutputBlock& out) {
+    OutputPlan plan;
+    plan.directory = out.directory;
+    plan.snapshots = out.snapshots;
+    if (out.snapshots) plan.snapshot_format = snapshot_format_from_name(out.snapshot_format);
+    plan.snapshot_every = out.snapshot_every;
+    plan.checkpoint_every_steps = out.checkpoint_every_steps;
+    plan.checkpoint_every_seconds = out.checkpoint_every_seconds;
+    plan.checkpoint_path = out.checkpoint_path;
+    plan.progress_interval_s = out.progress_interval;
+    return plan;
+}
+
 nlohmann::json engine_output_json(const OutputBlock& out) {
     nlohmann::json checkpoint = {{"every_steps", out.checkpoint_every_steps},
                                  {"every_seconds", out.checkpoint_every_seconds}};

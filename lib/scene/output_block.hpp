@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
@@ -33,5 +34,8 @@ OutputBlock read_output_block(SceneNode node, const std::string& default_directo
 
 // The engine scene's output block (docs/scene.md) for a mode that builds one.
 nlohmann::json engine_output_json(const OutputBlock& out);
+
+// The run loop's plan from the block, for a mode that builds its engine scene itself.
+OutputPlan output_plan(const OutputBlock& out);
 
 }  // namespace mrjam

@@ -365,17 +365,7 @@ Stage read_stage(SceneNode node, const Scene& scene, const std::vector<std::stri
     return st;
 }
 
-void read_output(SceneNode node, OutputPlan& out) {
-    const OutputBlock block = read_output_block(node, ".");
-    out.directory = block.directory;
-    out.snapshots = block.snapshots;
-    if (block.snapshots) out.snapshot_format = snapshot_format_from_name(block.snapshot_format);
-    out.snapshot_every = block.snapshot_every;
-    out.checkpoint_every_steps = block.checkpoint_every_steps;
-    out.checkpoint_every_seconds = block.checkpoint_every_seconds;
-    out.checkpoint_path = block.checkpoint_path;
-    out.progress_interval_s = block.progress_interval;
-}
+void read_output(SceneNode node, OutputPlan& out) { out = output_plan(read_output_block(node, ".")); }
 
 }  // namespace
 

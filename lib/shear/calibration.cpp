@@ -230,7 +230,7 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
     ladder["shear_rates"] = rates;
     base["ladder"] = ladder;
     base.erase("field_sweep");
-    const std::string root_dir = spec.output_directory;
+    const std::string root_dir = spec.output.directory;
     check_box(base, spec, params);
 
     nlohmann::json result = {{"status", "complete"},

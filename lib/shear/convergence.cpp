@@ -8,6 +8,7 @@
 
 #include "core/exit_status.hpp"
 #include "core/machine_threads.hpp"
+#include "core/sample_stats.hpp"
 #include "scene/scene_file.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/flow_curve_fit.hpp"
@@ -35,7 +36,7 @@ SweepSpec convergence_sweep(const ShearSpec& spec) {
     s.base_scene = spec.input;
     s.base_scene.erase("field_sweep");  // the convergence is the flow curve's
     s.base_scene.erase("convergence");
-    s.base_directory = spec.output_directory;
+    s.base_directory = spec.output.directory;
     SweepAxis sizes{{kSizeKey}, {}}, seeds{{kSeedKey}, {}};
     for (double edge : spec.converge_cell_sizes) sizes.values.push_back({cell_of(spec, edge)});
     for (int k = 0; k < spec.converge_seeds; ++k) seeds.values.push_back({spec.seed + static_cast<std::uint64_t>(k)});
@@ -54,21 +55,6 @@ std::string folder_of(std::size_t, const json& values) {
     return name;
 }
 
-double mean_of(const std::vector<double>& v) {
-    double sum = 0;
-    for (double x : v) sum += x;
-    return sum / static_cast<double>(v.size());
-}
-
-// Sample standard deviation (0 for fewer than two values).
-double sd_of(const std::vector<double>& v) {
-    if (v.size() < 2) return 0;
-    const double m = mean_of(v);
-    double ss = 0;
-    for (double x : v) ss += (x - m) * (x - m);
-    return std::sqrt(ss / static_cast<double>(v.size() - 1));
-}
-
 // The seeds' flow curves averaged rate by rate (the rates every seed finished).
 json mean_flow_curve(const std::vector<json>& reports, std::vector<FlowPoint>& curve) {
     json out = json::array();
@@ -83,14 +69,15 @@ json mean_flow_curve(const std::vector<json>& reports, std::vector<FlowPoint>& c
             block_sq += std::pow(q["error_Pa"].get<double>(), 2);
         }
         const double n = static_cast<double>(stress.size());
-        const double spread_error = sd_of(stress) / std::sqrt(n), block_error = std::sqrt(block_sq) / n;
+        const MeanSd m = mean_and_sd(stress);
+        const double spread_error = m.sd / std::sqrt(n), block_error = std::sqrt(block_sq) / n;
         const double rate = reports[0]["results"]["flow_curve"][k]["rate_1_s"].get<double>();
         const double error = std::max(spread_error, block_error);
-        curve.push_back({rate, mean_of(stress), error});
+        curve.push_back({rate, m.mean, error});
         out.push_back({{"rate_1_s", rate},
-                       {"stress_Pa", mean_of(stress)},
+                       {"stress_Pa", m.mean},
                        {"error_Pa", error},
-                       {"seed_sd_Pa", sd_of(stress)},
+                       {"seed_sd_Pa", m.sd},
                        {"seed_error_Pa", spread_error},
                        {"block_error_Pa", block_error},
                        {"seeds", stress.size()}});
@@ -110,7 +97,7 @@ json size_summary(const ShearSpec& spec, double edge, const std::vector<json>& r
             yields.push_back(r["results"]["yield_stress_Pa"].get<double>());
         grains.push_back(r["results"]["cell"]["grains"].get<double>());
     }
-    size["grains_mean"] = grains.empty() ? json(nullptr) : json(mean_of(grains));
+    size["grains_mean"] = grains.empty() ? json(nullptr) : json(mean_and_sd(grains).mean);
     size["seed_yield_stresses_Pa"] = yields;
     const ModelFit fit = fit_bingham(curve, spec.bingham_min_rate);
     size["bingham_of_mean_curve"] = to_json(fit);
@@ -119,7 +106,8 @@ json size_summary(const ShearSpec& spec, double edge, const std::vector<json>& r
         size["yield_stress_error_Pa"] = nullptr;
         return size;
     }
-    const double seed_error = yields.size() >= 2 ? sd_of(yields) / std::sqrt(static_cast<double>(yields.size())) : 0;
+    const double seed_error =
+        mean_and_sd(yields).sd / std::sqrt(static_cast<double>(std::max<std::size_t>(1, yields.size())));
     size["seed_yield_error_Pa"] = yields.size() >= 2 ? json(seed_error) : json(nullptr);
     size["yield_stress_Pa"] = fit.yield_stress;
     size["yield_stress_error_Pa"] = std::max(fit.yield_stress_error, seed_error);
@@ -175,7 +163,7 @@ json convergence_verdict(const std::vector<json>& sizes) {
 ConvergenceOutcome run_convergence(const ShearSpec& spec, const ShearOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     ConvergenceOutcome out;
-    const fs::path dir = fs::path(spec.output_directory) / "convergence";
+    const fs::path dir = fs::path(spec.output.directory) / "convergence";
     out.directory = dir.string();
     SweepOptions o;
     o.out_dir = out.directory;

@@ -17,7 +17,7 @@ namespace {
 
 constexpr const char* kFieldKey = "field/flux_density";
 
-fs::path sweep_directory(const ShearSpec& spec) { return fs::path(spec.output_directory) / "field_sweep"; }
+fs::path sweep_directory(const ShearSpec& spec) { return fs::path(spec.output.directory) / "field_sweep"; }
 
 // The pre-shear at the main ladder's first rate (when faster than the sweep's), then the sweep's rate.
 json point_ladder(const ShearSpec& s) {
@@ -40,7 +40,7 @@ SweepSpec field_sweep_spec(const ShearSpec& spec) {
     s.command = {"shear"};
     s.args = {"--fidelity", spec.tier};
     s.base_scene = field_point_scene(spec);
-    s.base_directory = spec.output_directory;
+    s.base_directory = spec.output.directory;
     SweepAxis axis;
     axis.keys = {kFieldKey};
     for (double b : spec.sweep_fields) axis.values.push_back({b});

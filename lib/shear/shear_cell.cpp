@@ -57,7 +57,7 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
 
 std::string checkpoint_path(const ShearSpec& spec, const ShearOptions& o) {
     if (!o.checkpoint_path.empty()) return o.checkpoint_path;
-    return (std::filesystem::path(spec.output_directory) / "shear_checkpoint.mrjam").string();
+    return (std::filesystem::path(spec.output.directory) / "shear_checkpoint.mrjam").string();
 }
 
 // The engine's refusals name engine-scene paths; give the user the shear-scene key instead.
@@ -108,7 +108,7 @@ public:
     ShearOutcome run() {
         t0_ = Clock::now();
         install_interrupt_handler();
-        prepare_output_directory(spec_.output_directory, "/output/directory");
+        prepare_output_directory(spec_.output.directory, "/output/directory");
         check_checkpoint_path(checkpoint_path(spec_, options_), "/output/directory");
         ShearOutcome out;
         for (std::size_t c = progress_.cells.size(); c < cells_.size() && out.status == "complete"; ++c) {
@@ -286,15 +286,8 @@ private:
             rate.on_start = [this, k, v = plan.wall_speeds[k]](System& s, bool fresh) { start_rate(s, k, v, fresh); };
             scene_->stages.push_back(rate);
         }
-        OutputPlan& out = scene_->output;
-        out.directory = spec_.output_directory;
-        out.checkpoint_path = checkpoint_path(spec_, options_);
-        out.checkpoint_every_seconds = spec_.output.checkpoint_every_seconds;
-        out.checkpoint_every_steps = spec_.output.checkpoint_every_steps;
-        out.snapshots = spec_.output.snapshots;
-        if (out.snapshots) out.snapshot_format = snapshot_format_from_name(spec_.output.snapshot_format);
-        out.snapshot_every = spec_.output.snapshot_every;
-        out.progress_interval_s = spec_.output.progress_interval;
+        scene_->output = output_plan(spec_.output);
+        scene_->output.checkpoint_path = checkpoint_path(spec_, options_);
     }
 
     // Magnetisation criterion: at every check, the contacts per grain and the mean |cos| of

@@ -39,19 +39,23 @@ PlotSeries curve_series(const nlohmann::json& flow_curve, const std::string& lab
     return s;
 }
 
-void add_bingham(Plot& plot, const nlohmann::json& fits, double x_max) {
-    if (!fits.contains("bingham") || !fits["bingham"].value("ok", false)) return;
-    const auto& b = fits["bingham"];
+// A Bingham fit's line tau_y + eta * rate (kPa) from rate 0 to x_max.
+PlotSeries bingham_line(const nlohmann::json& b, double x_max, const std::string& label, const std::string& colour) {
     PlotSeries line;
-    line.label = "Bingham fit";
+    line.label = label;
     line.line = true;
-    line.colour = "#d62728";
+    line.colour = colour;
     const double ty = b["yield_stress_Pa"].get<double>(), eta = b["plastic_viscosity_Pa_s"].get<double>();
     for (double x : {0.0, x_max}) {
         line.x.push_back(x);
         line.y.push_back((ty + eta * x) * 1e-3);
     }
-    plot.series.push_back(line);
+    return line;
+}
+
+void add_bingham(Plot& plot, const nlohmann::json& fits, double x_max) {
+    if (!fits.contains("bingham") || !fits["bingham"].value("ok", false)) return;
+    plot.series.push_back(bingham_line(fits["bingham"], x_max, "Bingham fit", "#d62728"));
 }
 
 void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) {
@@ -67,17 +71,9 @@ void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) 
         }
         plot.series.push_back(e);
     }
-    if (experiment.contains("yield_stress_Pa")) {
-        PlotSeries y;
-        y.label = "experimental yield stress";
-        y.line = true;
-        y.colour = "#2ca02c";
-        for (double x : {0.0, x_max}) {
-            y.x.push_back(x);
-            y.y.push_back(experiment["yield_stress_Pa"].get<double>() * 1e-3);
-        }
-        plot.series.push_back(y);
-    }
+    if (experiment.contains("yield_stress_Pa"))
+        plot.series.push_back(level("experimental yield stress", "#2ca02c", 0.0, x_max,
+                                    experiment["yield_stress_Pa"].get<double>() * 1e-3, false));
 }
 
 // Each rate's raft stress against the shear strain since the first rate began, with where the
@@ -241,16 +237,8 @@ nlohmann::json write_convergence_plots(const std::string& report_path, const nlo
         curves.series.push_back(points);
         const auto& b = s["bingham_of_mean_curve"];
         if (!b.value("ok", false)) continue;
-        PlotSeries line;
-        line.label = std::string(label) + " Bingham";
-        line.line = true;
+        PlotSeries line = bingham_line(b, rate_hi, std::string(label) + " Bingham", colour);
         line.dashed = true;
-        line.colour = colour;
-        const double ty = b["yield_stress_Pa"].get<double>(), eta = b["plastic_viscosity_Pa_s"].get<double>();
-        for (double x : {0.0, rate_hi}) {
-            line.x.push_back(x);
-            line.y.push_back((ty + eta * x) * 1e-3);
-        }
         curves.series.push_back(line);
     }
     add_experiment(curves, experiment, rate_hi);

@@ -245,7 +245,6 @@ void read_shear_output(SceneNode o, ShearSpec& s) {
     s.output = read_output_block(o, "out/shear",
                                  "the study keeps its checkpoint as shear_checkpoint.mrjam in output/directory (its "
                                  "field sweep's and convergence runs' beside it): drop path");
-    s.output_directory = s.output.directory;
 }
 
 // How full the cell is: a monolayer by area, a 3D cell by volume.

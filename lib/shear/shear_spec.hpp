@@ -65,9 +65,8 @@ struct ShearSpec {
     std::vector<double> converge_cell_sizes;  // m, increasing
     int converge_seeds = 3;
 
-    nlohmann::json experiment;           // reference data to compare with (echoed, plotted)
-    std::string output_directory = ".";  // output.directory
-    OutputBlock output;
+    nlohmann::json experiment;  // reference data to compare with (echoed, plotted)
+    OutputBlock output;         // output.directory: where the study writes
 
     // The sheared height: between the rafts' inner faces, or the whole period with Lees-Edwards.
     double gap() const { return cell.z - 2 * raft_thickness; }

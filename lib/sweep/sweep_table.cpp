@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/proportion_interval.hpp"
+#include "core/sample_stats.hpp"
 #include "scene/scene_node.hpp"
 
 namespace mrjam {
@@ -44,12 +45,8 @@ json aggregate(const std::vector<json>& values) {
                 {"ci95", {ci.low, ci.high}}};
     }
     if (!numbers.empty() && booleans == 0 && words.empty()) {
-        double mean = 0, var = 0;
-        for (double x : numbers) mean += x;
-        mean /= static_cast<double>(numbers.size());
-        for (double x : numbers) var += (x - mean) * (x - mean);
-        const double sd = numbers.size() > 1 ? std::sqrt(var / static_cast<double>(numbers.size() - 1)) : 0.0;
-        return {{"mean", mean}, {"sd", sd}, {"of", numbers.size()}};
+        const MeanSd m = mean_and_sd(numbers);
+        return {{"mean", m.mean}, {"sd", m.sd}, {"of", numbers.size()}};
     }
     json counts = json::object();
     for (const auto& [w, n] : words) counts[w] = n;
