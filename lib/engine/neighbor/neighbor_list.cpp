@@ -21,6 +21,13 @@ struct CellGrid {
     std::vector<std::uint32_t> start;  // first slot of each cell in `order`
     std::vector<std::uint32_t> order;  // grains sorted by cell
     std::vector<std::uint32_t> cell_of;
+    // Each grain's position and radius copied in cell order, so the stencil's inner loop reads
+    // its candidates sequentially instead of gathering them from the particle arrays.
+    struct Binned {
+        Vec3 x;
+        double r;
+    };
+    std::vector<Binned> binned;
 
     int axis_cell(double x, int k) const {
         const int c = static_cast<int>(std::floor((x - lo[k]) / size[k]));
@@ -56,6 +63,8 @@ CellGrid bin(const Particles& p, const Domain& domain, double target_size) {
     g.order.resize(p.size());
     std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
     for (std::size_t i = 0; i < p.size(); ++i) g.order[fill[g.cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    g.binned.resize(p.size());
+    for (std::size_t s = 0; s < p.size(); ++s) g.binned[s] = {p.position[g.order[s]], p.radius[g.order[s]]};
     return g;
 }
 
@@ -138,8 +147,31 @@ void fill_chunks(Chunks& chunks, std::size_t n, int nthreads, Fill fill) {
     }
 }
 
-bool owns(const Particles& p, std::uint32_t i, std::uint32_t j) {
-    return p.radius[j] < p.radius[i] || (p.radius[j] == p.radius[i] && j > i);
+// The pair's owner: the larger grain, the lower index on a tie.
+bool owns(double ri, std::uint32_t i, double rj, std::uint32_t j) { return rj < ri || (rj == ri && j > i); }
+
+// The candidates of one cell that grain i owns and that lie within their cutoff, when the whole
+// cell sits at one periodic image (`shifted_xi` = x_i with that image's shift). Appends their
+// slots in `order` to `accepted` and returns how many. Branch-free: the owner and range tests
+// each fail about half the time, unpredictably, and a mispredicted branch per candidate was
+// most of a build's time.
+template <class Cutoff>
+std::uint32_t accept_in_cell(const CellGrid& grid, std::uint32_t cell, std::uint32_t i, const Vec3& shifted_xi,
+                             double ri, Cutoff cutoff, std::vector<std::uint32_t>& accepted) {
+    const std::uint32_t s0 = grid.start[cell], s1 = grid.start[cell + 1];
+    const std::size_t base = accepted.size();
+    accepted.resize(base + (s1 - s0));
+    std::uint32_t* __restrict out = accepted.data() + base;
+    std::uint32_t count = 0;
+    for (std::uint32_t s = s0; s < s1; ++s) {
+        const CellGrid::Binned& b = grid.binned[s];
+        const double cut = cutoff(ri, b.r);
+        const bool owned = (b.r < ri) | ((b.r == ri) & (grid.order[s] > i));
+        out[count] = s;
+        count += static_cast<std::uint32_t>(owned & (norm2(shifted_xi - b.x) < cut * cut));
+    }
+    accepted.resize(base + count);
+    return count;
 }
 
 }  // namespace
@@ -177,6 +209,8 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
 
     fill_chunks(chunks_, n, nthreads, [&](Chunk& ch, std::size_t begin, std::size_t end) {
         AxisRange rx, ry, rz, rx_sliding;
+        std::vector<std::uint32_t> accepted;
+        const auto cutoff = [this](double a, double b) { return pair_cutoff(a, b); };
         for (std::size_t ii = begin; ii < end; ++ii) {
             const auto i = static_cast<std::uint32_t>(ii);
             const Vec3 xi = p.position[i];
@@ -216,11 +250,25 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                     for (int ax = 0; ax < xs->n; ++ax) {
                         if (rz.gap2[az] + ry.gap2[ay] + xs->gap2[ax] >= reach2) continue;  // wholly out of reach
                         const std::uint32_t cell = grid.cell_index(xs->cell[ax], ry.cell[ay], rz.cell[az]);
+                        const int wx = xs->wrap[ax], wy = ry.wrap[ay], wz = rz.wrap[az];
+                        if (!sliding && wx != 2 && wy != 2 && wz != 2) {
+                            // One image for the whole cell: x_i - (x_j + w L).
+                            const Vec3 shifted_xi = xi - Vec3{wx * len.x, wy * len.y, wz * len.z};
+                            accepted.clear();
+                            accept_in_cell(grid, cell, i, shifted_xi, ri, cutoff, accepted);
+                            const auto code = static_cast<std::uint8_t>((-wx + 1) + 3 * (-wy + 1) + 9 * (-wz + 1));
+                            for (std::uint32_t s : accepted) {
+                                push_pair(ch, carry, i, grid.order[s], code, interaction_range(ri, grid.binned[s].r));
+                                ++ch.count[ii - begin];
+                            }
+                            continue;
+                        }
                         for (std::uint32_t s = grid.start[cell]; s < grid.start[cell + 1]; ++s) {
+                            const CellGrid::Binned& bj = grid.binned[s];
                             const std::uint32_t j = grid.order[s];
-                            if (!owns(p, i, j)) continue;
+                            if (!owns(ri, i, bj.r, j)) continue;
                             // Separation x_i - x_j with the image the stencil implies.
-                            Vec3 d = xi - p.position[j];
+                            Vec3 d = xi - bj.x;
                             int w[3] = {xs->wrap[ax], ry.wrap[ay], rz.wrap[az]};
                             if (sliding) {
                                 // z first: the z image decides the x shift of the partner.
@@ -238,12 +286,12 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                                     d[k] -= w[k] * len[k];
                                 }
                             }
-                            const double cut = pair_cutoff(ri, p.radius[j]);
+                            const double cut = pair_cutoff(ri, bj.r);
                             if (norm2(d) >= cut * cut) continue;
                             // image code: shift = -w L added to x_i - x_j.
                             const auto code =
                                 static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
-                            push_pair(ch, carry, i, j, code, interaction_range(ri, p.radius[j]));
+                            push_pair(ch, carry, i, j, code, interaction_range(ri, bj.r));
                             ++ch.count[ii - begin];
                         }
                     }
