@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Where a jam step's time goes, as samples per sample of the kick pass (a streaming pass over the
 # grains that changes with neither the contact law nor its memory access), so builds can be
-# compared on a VM whose speed moves between runs (docs/benchmarks.md, "The contact pass's one
-# stall"). Resumes CHECKPOINT (a copy of it) on one thread for SECONDS under `perf record`.
+# compared on a VM whose speed moves between runs (docs/notes/benchmark_log.md, "The contact
+# pass's one stall"). Resumes CHECKPOINT (a copy of it) on one thread for SECONDS under `perf record`.
 #
 #   bash bench/step_shares.sh build/mrjam out/x/checkpoint.mrjam [seconds=30]
 set -euo pipefail

@@ -17,7 +17,8 @@ namespace {
 
 // A grain costs the engine about 2 kB with its contact and magnetic lists (measured: 1.6 kB at the
 // jam quick tier's 2-diameter dipole cutoff, 2.0 kB at the standard tier's 3, on 72,226 grains;
-// docs/benchmarks.md), so more grains than memory / 2.5 kB would swap or be killed mid-run.
+// docs/notes/benchmark_log.md, "Memory per grain"), so more grains than memory / 2.5 kB would
+// swap or be killed mid-run.
 constexpr double kMostGrains = 1e8;       // whatever the memory: past it a run would take weeks
 constexpr double kBytesPerGrain = 2.5e3;  // the measured 2 kB, with room for the larger cutoffs
 double most_grains_in_memory() {

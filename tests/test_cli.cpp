@@ -153,6 +153,17 @@ TEST_SUITE("cli") {
         CHECK(dt > 0);
         CHECK(dt == rel(0.1 * rep["timestep"]["critical_s"].get<double>()));
         CHECK(rep["results"]["simulated_time_s"].get<double>() == rel(100 * dt));
+        // The report conforms to schemas/report_run.schema.json (mrjam() checked the file), and
+        // the check fails where a key goes missing or changes type.
+        CHECK(mrjam_test::report_schema_errors(rep).empty());
+        json broken = rep;
+        broken.erase("status");
+        broken["results"]["steps"] = "100";
+        std::string errors;
+        for (const std::string& e : mrjam_test::report_schema_errors(broken)) errors += e + "\n";
+        CAPTURE(errors);
+        CHECK(errors.find("status") != std::string::npos);
+        CHECK(errors.find("/results/steps:") != std::string::npos);
     }
 
     TEST_CASE("cli: --threads 2 runs the same scene to the same state within round-off") {

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "rel_approx.hpp"
+#include "report_schema.hpp"
 
 namespace mrjam_test {
 
@@ -104,8 +105,31 @@ inline Result run_binary(const std::string& binary, const TempDir& dir, const st
     return r;
 }
 
+// The report a command line names with `--report 'PATH'` (quoted as quote() does), or "".
+inline std::string report_argument(const std::string& args) {
+    const std::string key = "--report '";
+    const std::size_t at = args.find(key);
+    if (at == std::string::npos) return "";
+    const std::size_t end = args.find('\'', at + key.size());
+    return end == std::string::npos ? "" : args.substr(at + key.size(), end - at - key.size());
+}
+
+// Runs mrjam; a report this run wrote (complete, failed or interrupted) must conform to its
+// mode's schema (report_schema.hpp).
 inline Result mrjam(const TempDir& dir, const std::string& args, const std::string& then = "") {
-    return run_binary(MRJAM_BINARY, dir, args, then);
+    const std::string report = report_argument(args);
+    std::error_code ec;
+    const auto before = std::filesystem::exists(report, ec) ? std::filesystem::last_write_time(report, ec)
+                                                            : std::filesystem::file_time_type::min();
+    Result r = run_binary(MRJAM_BINARY, dir, args, then);
+    if (!report.empty() && std::filesystem::exists(report, ec) &&
+        std::filesystem::last_write_time(report, ec) != before) {
+        const std::vector<std::string> errors = report_file_schema_errors(report);
+        std::string listed;
+        for (const std::string& e : errors) listed += "\n  " + e;
+        CHECK_MESSAGE(errors.empty(), "the report " << report << " breaks its schema:" << listed);
+    }
+    return r;
 }
 
 #ifdef MRJAM_BENCH_BINARY

@@ -78,8 +78,8 @@ template <RollingModel Rolling, CohesionModel Cohesion, bool Sliding>
         const double ri = radius[i];
         const bool frozen_i = raft[i] >= 0;
         // First pass: which listed pairs touch, with each pair's history prefetched; the contact
-        // law waiting for that history line was the pass's one stall (docs/benchmarks.md,
-        // "The contact pass's one stall").
+        // law waiting for that history line was the pass's one stall
+        // (docs/notes/benchmark_log.md, "The contact pass's one stall").
         const std::uint32_t k0 = offsets[i], k1 = offsets[i + 1];
         if (entries.size() < k1 - k0) entries.resize(k1 - k0);
         std::uint32_t* __restrict found = entries.data();
@@ -177,7 +177,8 @@ template <RollingModel Rolling, CohesionModel Cohesion>
             const auto& near = wall.near.index;
             // The near grains lie too far apart in the grains' arrays for the hardware's
             // prefetch: what the contact law reads is fetched a few near grains ahead, which
-            // takes a sixth off the pass (docs/benchmarks.md, "Wall contacts prefetched").
+            // takes a sixth off the pass (docs/notes/benchmark_log.md, "Wall contacts
+            // prefetched").
             constexpr std::ptrdiff_t ahead = 8;
             for (auto k = std::lower_bound(near.begin(), near.end(), begin); k != near.end() && *k < end; ++k) {
                 if (near.end() - k > ahead) {
@@ -234,7 +235,7 @@ void compute_all(System& s, bool zero_first) {
         if (s.physics.contact) {
             // Counted on this thread's stack: the threads' counts side by side in one cache line
             // cost a quarter of a two-thread step whenever the compiler left them in memory
-            // (docs/benchmarks.md, "Counts that shared a cache line").
+            // (docs/notes/benchmark_log.md, "Counts that shared a cache line").
             ContactStats stats;
             if (s.domain.lees_edwards)
                 grain_contacts<Rolling, Cohesion, true>(s, f, t, stats, b.raft_force[tid], begin, end);

@@ -181,7 +181,8 @@ ModelBlock read_model_block(SceneNode model, const json& scene, const TierSettin
     // measures the cost).
     engine.flow_lookup_interval = model.integer("flow_lookup_interval", ts.flow_lookup_interval, 1, 100);
     // The Verlet skin (of the mean diameter): the lists are exact at any skin, so it trades list
-    // builds against pairs checked, speed only (docs/benchmarks.md measures it).
+    // builds against pairs checked, speed only (docs/notes/benchmark_log.md, "The Verlet skin",
+    // measures it).
     engine.neighbour_skin = model.number("neighbour_skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
     // The slab's plane faces stand for more of the same suspension beside it, moving with it: a
     // frictionless face carries no shear across the plane, as symmetry asks of a thin slab about

@@ -38,7 +38,7 @@ struct JamProtocol {
     // closed period lasted seconds (operated by hand), in which the field's gradient draws the grains
     // towards its maximum at millimetres a second; the model's fraction of a millisecond sees a
     // micron of it. Below 1 the overdamped drawing runs that many times faster towards the same
-    // settled end state (docs/jam.md, "The closed period").
+    // settled end state (docs/notes/jam_experiment.md, "The experiment's closed period").
     double magnetise_viscosity_share = 1.0;
     double max_time = 3e-3;         // s, judged period (pressure on, or field on open first), unless arrest comes first
     double arrest_window = 0.2e-3;  // s, the flux must stay low this long

@@ -80,7 +80,7 @@ private:
     // slice_at's starting guess: equal bins over the grid, each naming the slice at its centre.
     // No bin is wider than the narrowest slice, so the exact answer is at most a step or two
     // away; against a binary search over the slices, 10 % less per drag_at call, about 1 % of
-    // the 10 um valve's step (docs/benchmarks.md, "Carrier flows").
+    // the 10 um valve's step (docs/notes/benchmark_log.md, "Carrier flows").
     double table_origin_ = 0, table_inverse_width_ = 0;
     std::vector<std::uint32_t> table_slice_;
     std::vector<double> speed_, factor_;
