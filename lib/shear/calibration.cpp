@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <nlopt.hpp>
 #include <sstream>
 
 #include "scene/scene_node.hpp"
@@ -219,6 +221,45 @@ void check_box(const nlohmann::json& base, const ShearSpec& spec, const std::vec
 
 }  // namespace
 
+// NLopt's Nelder-Mead simplex (bounded) over the parameters' box: derivative-free, because each
+// evaluation is a noisy and expensive shear study. It starts at the box's centre with steps of a
+// quarter of each range and stops after max_runs evaluations or when `stop` is set (an interrupt).
+void minimise_in_box(const std::vector<CalibrationParameter>& params, int max_runs,
+                     const std::function<double(const std::vector<double>&)>& evaluate, const bool& stop) {
+    const unsigned n = static_cast<unsigned>(params.size());
+    nlopt::opt search(nlopt::LN_NELDERMEAD, n);
+    std::vector<double> lo(n), hi(n), x(n), step(n);
+    for (unsigned k = 0; k < n; ++k) {
+        lo[k] = params[k].lo;
+        hi[k] = params[k].hi;
+        x[k] = 0.5 * (lo[k] + hi[k]);
+        step[k] = 0.25 * (hi[k] - lo[k]);
+    }
+    search.set_lower_bounds(lo);
+    search.set_upper_bounds(hi);
+    search.set_initial_step(step);
+    search.set_maxeval(max_runs);
+    struct Objective {
+        const std::function<double(const std::vector<double>&)>* evaluate;
+        const bool* stop;
+        nlopt::opt* search;
+    } objective{&evaluate, &stop, &search};
+    search.set_min_objective(
+        [](const std::vector<double>& at, std::vector<double>&, void* data) {
+            auto* o = static_cast<Objective*>(data);
+            const double value = (*o->evaluate)(at);
+            if (*o->stop) o->search->force_stop();
+            return value;
+        },
+        &objective);
+    double best = 0;
+    try {
+        search.optimize(x, best);
+    } catch (const nlopt::forced_stop&) {       // interrupted: the runs so far are the result
+    } catch (const nlopt::roundoff_limited&) {  // the simplex cannot shrink further: done
+    }
+}
+
 nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
                          const std::vector<CalibrationParameter>& params, int max_runs, const ShearOptions& options) {
     nlohmann::json base = spec.input;
@@ -239,8 +280,7 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
                              {"data_points", data.points.size()},
                              {"parameters", nlohmann::json::array()},
                              {"objective", "RMS of (simulated - measured) / measured stress at the measured rates"},
-                             {"search", params.size() == 1 ? "golden-section search on [min, max]"
-                                                           : "Nelder-Mead simplex, clamped to the bounds"}};
+                             {"search", "Nelder-Mead simplex within the bounds (NLopt LN_NELDERMEAD)"}};
     for (const auto& p : params) result["parameters"].push_back({{"name", p.name}, {"min", p.lo}, {"max", p.hi}});
     double best = 1e300;
     bool stop = false;
@@ -286,81 +326,7 @@ nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
         return residual;
     };
 
-    if (params.size() == 1) {
-        const double g = (std::sqrt(5.0) - 1) / 2;
-        double a = params[0].lo, b = params[0].hi;
-        double c = b - g * (b - a), d = a + g * (b - a);
-        double fc = evaluate({c}), fd = evaluate({d});
-        while (!stop && static_cast<int>(result["runs"].size()) < max_runs) {
-            if (fc < fd) {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - g * (b - a);
-                fc = evaluate({c});
-            } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + g * (b - a);
-                fd = evaluate({d});
-            }
-        }
-    } else {
-        // Nelder-Mead in the box, starting from a simplex around its centre.
-        std::vector<std::vector<double>> simplex(3, std::vector<double>(2));
-        for (int k = 0; k < 2; ++k) simplex[0][k] = 0.5 * (params[k].lo + params[k].hi);
-        simplex[1] = simplex[0];
-        simplex[1][0] += 0.25 * (params[0].hi - params[0].lo);
-        simplex[2] = simplex[0];
-        simplex[2][1] += 0.25 * (params[1].hi - params[1].lo);
-        std::vector<double> f(3);
-        for (int k = 0; k < 3; ++k) f[k] = evaluate(simplex[k]);
-        auto clampv = [&](std::vector<double> x) {
-            for (int k = 0; k < 2; ++k) x[k] = std::clamp(x[k], params[k].lo, params[k].hi);
-            return x;
-        };
-        while (!stop && static_cast<int>(result["runs"].size()) < max_runs) {
-            std::vector<int> order = {0, 1, 2};
-            std::sort(order.begin(), order.end(), [&](int i, int j) { return f[i] < f[j]; });
-            const int lo = order[0], mid = order[1], hi = order[2];
-            std::vector<double> centroid(2);
-            for (int k = 0; k < 2; ++k) centroid[k] = 0.5 * (simplex[lo][k] + simplex[mid][k]);
-            auto along = [&](double t) {
-                std::vector<double> x(2);
-                for (int k = 0; k < 2; ++k) x[k] = centroid[k] + t * (simplex[hi][k] - centroid[k]);
-                return clampv(x);
-            };
-            const auto xr = along(-1.0);
-            const double fr = evaluate(xr);
-            if (fr < f[lo]) {
-                const auto xe = along(-2.0);
-                const double fe = evaluate(xe);
-                if (fe < fr) {
-                    simplex[hi] = xe;
-                    f[hi] = fe;
-                } else {
-                    simplex[hi] = xr;
-                    f[hi] = fr;
-                }
-            } else if (fr < f[mid]) {
-                simplex[hi] = xr;
-                f[hi] = fr;
-            } else {
-                const auto xc = along(0.5);
-                const double fcon = evaluate(xc);
-                if (fcon < f[hi]) {
-                    simplex[hi] = xc;
-                    f[hi] = fcon;
-                } else {
-                    for (int k : {mid, hi}) {
-                        for (int q = 0; q < 2; ++q) simplex[k][q] = 0.5 * (simplex[k][q] + simplex[lo][q]);
-                        f[k] = evaluate(simplex[k]);
-                    }
-                }
-            }
-        }
-    }
+    minimise_in_box(params, max_runs, evaluate, stop);
     return result;
 }
 

@@ -2,8 +2,9 @@
 // Calibration: fit one or two named model parameters so the simulated flow curve matches
 // measured points. Each evaluation is a full shear study at the measured rates (same seed, so
 // the evaluations share their random grains and the objective is smooth in the parameters); the
-// search is derivative-free because each evaluation is noisy and expensive: golden-section
-// search for one parameter, a bounded Nelder-Mead simplex for two.
+// search is derivative-free because each evaluation is noisy and expensive: NLopt's bounded
+// Nelder-Mead simplex over the parameters' box.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -34,6 +35,12 @@ struct CalibrationParameter {
 // cohesion_energy_density, relative_permeability, field_scale, or a JSON pointer. Throws SceneError.
 std::vector<CalibrationParameter> parse_calibration_parameters(const std::vector<std::string>& items,
                                                                const ShearSpec& spec);
+
+// The calibration's search (NLopt's bounded Nelder-Mead simplex from the box's centre, first
+// steps a quarter of each range): calls `evaluate` at points inside the parameters' [lo, hi] box,
+// at most max_runs times, fewer once `stop` is true after a call.
+void minimise_in_box(const std::vector<CalibrationParameter>& params, int max_runs,
+                     const std::function<double(const std::vector<double>&)>& evaluate, const bool& stop);
 
 // Runs the search; the result holds status, runs, best (values, residual, flow curve, fits).
 nlohmann::json calibrate(const ShearSpec& spec, const CalibrationData& data,
