@@ -147,17 +147,46 @@ void fill_chunks(Chunks& chunks, std::size_t n, int nthreads, Fill fill) {
     }
 }
 
-// The pair's owner: the larger grain, the lower index on a tie.
-bool owns(double ri, std::uint32_t i, double rj, std::uint32_t j) { return rj < ri || (rj == ri && j > i); }
+// The pair's owner: the larger grain, the lower index on a tie. Bitwise, so the candidate loop
+// below compiles without a branch for it.
+inline bool owns(double ri, std::uint32_t i, double rj, std::uint32_t j) { return (rj < ri) | ((rj == ri) & (j > i)); }
+
+// The index into the 27 image shifts of a partner sitting w periods away: the shift -w L is added
+// to x_i - x_j.
+inline std::uint8_t image_code(int wx, int wy, int wz) {
+    return static_cast<std::uint8_t>((-wx + 1) + 3 * (-wy + 1) + 9 * (-wz + 1));
+}
+
+// x_i - x_j for a candidate whose stencil entry may leave the image open (wrap 2: minimum image)
+// or cross the Lees-Edwards boundary, with w[] resolved to the image used.
+Vec3 stencil_separation(const Vec3& xi, const Vec3& xj, int w[3], const Vec3& len, bool sliding, double shear_offset) {
+    Vec3 d = xi - xj;
+    if (sliding) {
+        // z first: the z image decides the x shift of the partner.
+        if (w[2] == 2) w[2] = static_cast<int>(std::nearbyint(d.z / len.z));
+        d.z -= w[2] * len.z;
+        d.x -= w[2] * shear_offset;
+        for (int k = 0; k < 2; ++k) {
+            if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
+            d[k] -= w[k] * len[k];
+        }
+        return d;
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
+        d[k] -= w[k] * len[k];  // x_i - (x_j + w L): the partner image sits w periods away
+    }
+    return d;
+}
 
 // The candidates of one cell that grain i owns and that lie within their cutoff, when the whole
 // cell sits at one periodic image (`shifted_xi` = x_i with that image's shift). Appends their
-// slots in `order` to `accepted` and returns how many. Branch-free: the owner and range tests
+// slots in `order` to `accepted`. Branch-free: the owner and range tests
 // each fail about half the time, unpredictably, and a mispredicted branch per candidate was
 // most of a build's time.
 template <class Cutoff>
-std::uint32_t accept_in_cell(const CellGrid& grid, std::uint32_t cell, std::uint32_t i, const Vec3& shifted_xi,
-                             double ri, Cutoff cutoff, std::vector<std::uint32_t>& accepted) {
+void accept_in_cell(const CellGrid& grid, std::uint32_t cell, std::uint32_t i, const Vec3& shifted_xi, double ri,
+                    Cutoff cutoff, std::vector<std::uint32_t>& accepted) {
     const std::uint32_t s0 = grid.start[cell], s1 = grid.start[cell + 1];
     const std::size_t base = accepted.size();
     accepted.resize(base + (s1 - s0));
@@ -166,12 +195,10 @@ std::uint32_t accept_in_cell(const CellGrid& grid, std::uint32_t cell, std::uint
     for (std::uint32_t s = s0; s < s1; ++s) {
         const CellGrid::Binned& b = grid.binned[s];
         const double cut = cutoff(ri, b.r);
-        const bool owned = (b.r < ri) | ((b.r == ri) & (grid.order[s] > i));
         out[count] = s;
-        count += static_cast<std::uint32_t>(owned & (norm2(shifted_xi - b.x) < cut * cut));
+        count += static_cast<std::uint32_t>(owns(ri, i, b.r, grid.order[s]) & (norm2(shifted_xi - b.x) < cut * cut));
     }
     accepted.resize(base + count);
-    return count;
 }
 
 }  // namespace
@@ -256,7 +283,7 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             const Vec3 shifted_xi = xi - Vec3{wx * len.x, wy * len.y, wz * len.z};
                             accepted.clear();
                             accept_in_cell(grid, cell, i, shifted_xi, ri, cutoff, accepted);
-                            const auto code = static_cast<std::uint8_t>((-wx + 1) + 3 * (-wy + 1) + 9 * (-wz + 1));
+                            const std::uint8_t code = image_code(wx, wy, wz);
                             for (std::uint32_t s : accepted) {
                                 push_pair(ch, carry, i, grid.order[s], code, interaction_range(ri, grid.binned[s].r));
                                 ++ch.count[ii - begin];
@@ -267,31 +294,11 @@ void NeighborList::build(Particles& p, const Domain& domain, int threads) {
                             const CellGrid::Binned& bj = grid.binned[s];
                             const std::uint32_t j = grid.order[s];
                             if (!owns(ri, i, bj.r, j)) continue;
-                            // Separation x_i - x_j with the image the stencil implies.
-                            Vec3 d = xi - bj.x;
-                            int w[3] = {xs->wrap[ax], ry.wrap[ay], rz.wrap[az]};
-                            if (sliding) {
-                                // z first: the z image decides the x shift of the partner.
-                                if (w[2] == 2) w[2] = static_cast<int>(std::nearbyint(d.z / len.z));
-                                d.z -= w[2] * len.z;
-                                d.x -= w[2] * domain.shear_offset;
-                                for (int k = 0; k < 2; ++k) {
-                                    if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
-                                    d[k] -= w[k] * len[k];
-                                }
-                            } else {
-                                for (int k = 0; k < 3; ++k) {
-                                    if (w[k] == 2) w[k] = static_cast<int>(std::nearbyint(d[k] / len[k]));
-                                    // x_i - (x_j + w L): the partner image sits w periods away.
-                                    d[k] -= w[k] * len[k];
-                                }
-                            }
+                            int w[3] = {wx, wy, wz};
+                            const Vec3 d = stencil_separation(xi, bj.x, w, len, sliding, domain.shear_offset);
                             const double cut = pair_cutoff(ri, bj.r);
                             if (norm2(d) >= cut * cut) continue;
-                            // image code: shift = -w L added to x_i - x_j.
-                            const auto code =
-                                static_cast<std::uint8_t>((-w[0] + 1) + 3 * (-w[1] + 1) + 9 * (-w[2] + 1));
-                            push_pair(ch, carry, i, j, code, interaction_range(ri, bj.r));
+                            push_pair(ch, carry, i, j, image_code(w[0], w[1], w[2]), interaction_range(ri, bj.r));
                             ++ch.count[ii - begin];
                         }
                     }
