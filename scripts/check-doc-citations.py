@@ -11,6 +11,7 @@ matches a heading when it is the heading, or a part of it, ignoring case and bac
 (a heading "The closed period (2026-12-04)" is cited as "The closed period"). Exit status 1 lists
 each broken citation as FILE:LINE: the citation and what is wrong.
 """
+import functools
 import os
 import re
 import sys
@@ -28,20 +29,19 @@ def normalise(text):
     return " ".join(text.replace("`", "").lower().split())
 
 
-def headings(path, cache={}):
-    if path not in cache:
-        found = []
-        in_fence = False
-        with open(path, encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("```"):
-                    in_fence = not in_fence
-                elif not in_fence and line.startswith("#"):
-                    found.append(normalise(line.lstrip("#")))
-                elif not in_fence and BOLD_LEAD.match(line):  # a run-in paragraph title
-                    found.append(normalise(BOLD_LEAD.match(line).group(1)))
-        cache[path] = found
-    return cache[path]
+@functools.lru_cache(maxsize=None)
+def headings(path):
+    found = []
+    in_fence = False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("```"):
+                in_fence = not in_fence
+            elif not in_fence and line.startswith("#"):
+                found.append(normalise(line.lstrip("#")))
+            elif not in_fence and BOLD_LEAD.match(line):  # a run-in paragraph title
+                found.append(normalise(BOLD_LEAD.match(line).group(1)))
+    return found
 
 
 def joined_lines(path):

@@ -25,29 +25,18 @@ except ImportError:  # pragma: no cover
 
 SCHEMA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "schemas")
 
-# report "mode" -> schema file name
-SCHEMA_OF_MODE = {
-    "run": "report_run.schema.json",
-    "jam": "report_jam.schema.json",
-    "design": "report_design.schema.json",
-    "shear": "report_shear.schema.json",
-    "shear-calibrate": "report_shear-calibrate.schema.json",
-    "shear-converge": "report_shear-converge.schema.json",
-    "magnetics": "report_magnetics.schema.json",
-    "asteroid": "report_asteroid.schema.json",  # every "asteroid <kind>"
-}
-
 # keys that only a report has (a scene or sweep file has "mode" but none of them)
 REPORT_KEYS = ("status", "mrjam_version", "results")
 MESSAGE_LIMIT = 300
 
 
-def schema_key(mode):
+def schema_key(mode, modes):
+    """The schema's mode for a report's "mode" ("asteroid <kind>" share one), or None."""
     if not isinstance(mode, str):
         return None
     if mode == "asteroid" or mode.startswith("asteroid "):
-        return "asteroid"
-    return mode if mode in SCHEMA_OF_MODE else None
+        mode = "asteroid"
+    return mode if mode in modes else None
 
 
 def json_path(parts):
@@ -76,10 +65,13 @@ class Checker:
     def __init__(self, schema_dir):
         self.schema_dir = schema_dir
         self.validators = {}
+        # schemas/report_<mode>.schema.json, one per mode
+        self.modes = sorted(name[len("report_"):-len(".schema.json")] for name in os.listdir(schema_dir)
+                            if name.startswith("report_") and name.endswith(".schema.json"))
 
     def validator(self, key):
         if key not in self.validators:
-            path = os.path.join(self.schema_dir, SCHEMA_OF_MODE[key])
+            path = os.path.join(self.schema_dir, "report_%s.schema.json" % key)
             with open(path) as f:
                 schema = json.load(f)
             Draft7Validator.check_schema(schema)
@@ -98,10 +90,10 @@ class Checker:
         if not any(k in report for k in REPORT_KEYS):
             return "skip", None, ["not a report (\"mode\" %s but none of %s: a scene or sweep file?)"
                                   % (json.dumps(report["mode"]), ", ".join(REPORT_KEYS))]
-        key = schema_key(report["mode"])
+        key = schema_key(report["mode"], self.modes)
         if key is None:
             return "fail", None, ["$.mode: unknown mode %s (known: %s, asteroid <kind>)"
-                                  % (json.dumps(report["mode"]), ", ".join(k for k in SCHEMA_OF_MODE if k != "asteroid"))]
+                                  % (json.dumps(report["mode"]), ", ".join(k for k in self.modes if k != "asteroid"))]
         _, validator = self.validator(key)
         lines = []
         errors = sorted(validator.iter_errors(report), key=lambda e: list(map(str, e.absolute_path)))
@@ -128,7 +120,11 @@ def main(argv=None):
     parser.add_argument("--quiet", action="store_true", help="print failures and the summary only")
     args = parser.parse_args(argv)
 
-    checker = Checker(args.schemas)
+    try:
+        checker = Checker(args.schemas)
+    except OSError as e:
+        sys.stderr.write("error: --schemas: cannot list %s (%s)\n" % (args.schemas, e.strerror))
+        return 2
     counts = {}  # schema key -> [ok, failed]
     failed = skipped = 0
     for path in args.reports:

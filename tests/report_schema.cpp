@@ -1,5 +1,8 @@
 #include "report_schema.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -47,10 +50,11 @@ std::string json_path(const std::vector<std::string>& context) {
 
 std::string report_schema_path(const std::string& mode) {
     const std::string name = mode.rfind("asteroid", 0) == 0 ? "asteroid" : mode;
-    for (const char* known :
-         {"run", "jam", "design", "shear", "shear-calibrate", "shear-converge", "magnetics", "asteroid"})
-        if (name == known) return std::string(MRJAM_SOURCE_DIR) + "/schemas/report_" + name + ".schema.json";
-    return "";
+    // A mode is a word with hyphens; anything else names no file under schemas/.
+    if (name.empty() || !std::all_of(name.begin(), name.end(), [](char c) { return std::islower(c) || c == '-'; }))
+        return "";
+    const std::string path = std::string(MRJAM_SOURCE_DIR) + "/schemas/report_" + name + ".schema.json";
+    return std::filesystem::exists(path) ? path : "";
 }
 
 std::vector<std::string> report_schema_errors(const nlohmann::json& report) {
