@@ -8,8 +8,9 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "io/png_image.hpp"
+#include "io/svg_raster.hpp"
 #include "magnetic/external_field.hpp"
+#include "magnetics/field_picture.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "magnetics/magnetics_scene.hpp"
 #include "run/interrupt.hpp"
@@ -31,23 +32,10 @@ struct MagneticsArgs {
     bool quiet = false;
 };
 
+// The picture beside the report: REPORT_B_midplane.svg, with its PNG twin.
 fs::path picture_path(const std::string& report) {
     fs::path p(report);
-    return p.parent_path() / (p.stem().string() + "_B_midplane.png");
-}
-
-void write_picture(const EpmField& field, const fs::path& path) {
-    const FieldGrid& g = field.picture;
-    std::vector<double> millitesla(g.values.size());
-    double top = 0;
-    for (std::size_t i = 0; i < g.values.size(); ++i) {
-        millitesla[i] = g.values[i].x * 1e3;
-        if (std::isfinite(millitesla[i])) top = std::max(top, millitesla[i]);
-    }
-    // Saturate the colour scale at twice the active mean: the iron's flux density would
-    // otherwise wash out the fluid, which is what a designer looks at.
-    const double vmax = std::max(1e-6, std::min(top, 2e3 * field.mean_b_active));
-    write_png(path, render_scalar_map(millitesla, g.count[0], g.count[1], 0.0, vmax, 3, true));
+    return p.parent_path() / (p.stem().string() + "_B_midplane.svg");
 }
 
 nlohmann::json results_json(const EpmField& f, const MagneticsScene& scene) {
@@ -156,10 +144,11 @@ void add_magnetics_command(CLI::App& app, int& exit_status) {
         nlohmann::json outputs = nlohmann::json::object();
         for (const std::string& file : {args->report, args->field_map})
             if (!file.empty() && fs::path(file).has_parent_path()) fs::create_directories(fs::path(file).parent_path());
-        if (fem && field.picture.count[0] > 1) {
-            const fs::path png = picture_path(args->report);
-            write_picture(field, png);
-            outputs["picture"] = png.string();
+        if (fem && has_midplane_picture(field)) {
+            const fs::path svg = picture_path(args->report);
+            write_midplane_picture(field, "Flux density the magnet puts into the fluid", svg.string());
+            outputs["picture"] = png_twin(svg.string());
+            outputs["picture_svg"] = svg.string();
         }
         if (!args->field_map.empty()) {
             const FieldGrid& g = field.fluid_map;

@@ -13,6 +13,7 @@
 #include "jam/open_flow.hpp"
 #include "jam/seed_tally.hpp"
 #include "magnetic/external_field.hpp"
+#include "magnetics/field_picture.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
 #include "scene/scene_node.hpp"
@@ -70,6 +71,7 @@ public:
 private:
     const std::string& name() const { return spec_.constrictions[req_.index].first; }
     fs::path map_path() const { return req_.folder / "field.map"; }
+    fs::path picture_path() const { return req_.folder / "field_B_midplane.svg"; }
     fs::path checkpoint_path() const { return default_checkpoint_path((req_.folder / "jam").string()); }
 
     std::optional<Stop> run_steps() {
@@ -114,6 +116,8 @@ private:
         fs::remove_all(ms.request.work_dir);
         const magnetics::FieldGrid& g = solved->fluid_map;
         FieldMap(g.count, g.origin, g.spacing, g.values).write(map_path().string());
+        if (magnetics::has_midplane_picture(*solved))
+            magnetics::write_midplane_picture(*solved, "|B| on the mid-plane, " + name(), picture_path().string());
         // A checkpoint left here by an earlier design in this directory is not this run's.
         fs::remove(checkpoint_path());
         progress_.field = {{"mean_B_active_T", solved->mean_b_active}, {"max_B_active_T", solved->max_b_active}};
@@ -224,6 +228,9 @@ private:
                     {"open_throat_speed_m_s", flow.throat_speed},
                     {"suspension_viscosity_Pa_s", flow.suspension_viscosity},
                     {"field_map", map_path().string()}};
+        // The pictures, where this run (or the interrupted one it resumes) drew them.
+        if (fs::exists(picture_path())) row["field_picture"] = picture_path().string();
+        if (fs::exists(req_.folder / "throat.png")) row["throat_picture"] = (req_.folder / "throat.png").string();
         row.update(seed_probabilities(tally));
         if (req_.progress)
             std::cerr << "[design] " << name() << ": " << tally.jams << " jam(s) in " << tally.judged

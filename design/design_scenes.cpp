@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "core/format.hpp"
+#include "scene/output_block.hpp"
 #include "scene/scene_node.hpp"
 #include "scene/units.hpp"
 
@@ -68,6 +69,21 @@ void set_design_key(json& scene, const std::string& scene_path, const std::strin
 }
 }  // namespace
 
+// The design's output block: its directory, and the keys each constriction's jam run takes as its
+// own. A checkpoint's path is the jam run's to choose (where --resume looks), so it is refused.
+void read_design_output(SceneNode& root, DesignSpec& spec) {
+    const json none = json::object();
+    json unused;
+    std::optional<SceneNode> output = root.optional_object("output");
+    const OutputBlock block =
+        read_output_block(output ? *output : SceneNode(none, unused, "/output"), "out/design",
+                          "each jam run keeps its checkpoint in output/directory/<constriction>/jam, where --resume "
+                          "finds it: drop path");
+    spec.output_directory = block.directory;
+    spec.jam_output = spec.design.contains("output") ? spec.design["output"] : json::object();
+    spec.jam_output.erase("directory");
+}
+
 DesignSpec read_design_spec(const json& design, const std::string& design_path) {
     if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
     DesignSpec spec;
@@ -87,9 +103,11 @@ DesignSpec read_design_spec(const json& design, const std::string& design_path) 
                                                                              : json::array({"20x", "30x", "40x"}));
     spec.required_jam_probability = root.number("required_jam_probability", 1.0, Bounds::open_closed(0.0, 1.0));
     spec.seeds = static_cast<int>(root.integer("seeds", 1, 1, 1000));
-    spec.output_directory = root.text("output_directory", "out/design");
-    if (spec.output_directory.empty())
-        throw SceneError("/output_directory", "must name a directory, e.g. \"out/design\"");
+    if (root.has("output_directory"))
+        root.fail("output_directory",
+                  "is now output/directory (one output block with the same keys in every mode; docs/scene.md, "
+                  "\"Output\")");
+    read_design_output(root, spec);
     root.finish();
     spec.base_directory = fs::path(design_path).parent_path().string();
     return spec;
@@ -115,8 +133,8 @@ magnetics::MagneticsScene design_magnetics_scene(const DesignSpec& spec, const f
         if (fluid.is_object() && !fluid.contains("relative_permeability")) fluid["relative_permeability"] = 1.0;
     }
     set_design_key(mscene, "/magnetics", "output", {{"directory", (dir / "magnetics").string()}},
-                   "the design writes each solve under output_directory/<constriction>/magnetics; remove this "
-                   "key (set the design's output_directory instead)");
+                   "the design writes each solve under output/directory/<constriction>/magnetics; remove "
+                   "this key (set the design's output/directory instead)");
     magnetics::MagneticsScene scene =
         within_block("/magnetics", [&] { return magnetics::read_magnetics_scene(mscene, magnetics_tier); });
     // The jam runs need a field map, which the circuit model does not make: refused before the
@@ -137,9 +155,11 @@ json design_jam_inputs(const DesignSpec& spec, const fs::path& dir, json valve, 
     set_design_key(jscene, "/jam", "field", field,
                    "the design runs the jam predictor in the field it solved for each constriction; remove this "
                    "key (`mrjam jam` runs a scene in a uniform field or a map of your own)");
-    set_design_key(jscene, "/jam", "output", {{"directory", (dir / "jam").string()}},
-                   "the design writes each jam run under output_directory/<constriction>/jam; remove this key "
-                   "(set the design's output_directory instead)");
+    json output = spec.jam_output;
+    output["directory"] = (dir / "jam").string();
+    set_design_key(jscene, "/jam", "output", std::move(output),
+                   "the design writes each jam run under output/directory/<constriction>/jam; remove this key "
+                   "(the design's own output block sets the jam runs' progress, checkpoints and snapshots)");
     return jscene;
 }
 

@@ -22,7 +22,10 @@ struct DesignSpec {
     std::vector<std::pair<std::string, double>> constrictions;  // as written ("20x", "1.2 mm") and in metres
     double required_jam_probability = 1.0;
     int seeds = 1;
-    std::filesystem::path output_directory;
+    std::filesystem::path output_directory;  // output/directory
+    // The rest of the design's output block (progress_interval, checkpoint, snapshots), given to
+    // every jam run as its own, so the block has the same keys as in every other mode.
+    nlohmann::json jam_output = nlohmann::json::object();
     std::string base_directory;  // the design file's directory: relative paths in the jam block start there
 };
 

@@ -7,6 +7,7 @@
 #include "core/exit_status.hpp"
 #include "design/design_progress.hpp"
 #include "design/design_scenes.hpp"
+#include "design/design_summary.hpp"
 #include "magnetics/getdp_problem.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
@@ -83,7 +84,7 @@ public:
             solve_ = [](const magnetics::EpmFieldRequest& r) { return magnetics::compute_epm_field(r); };
         }
         check_design_scenes(spec_, magnetics_tier_, req_.fidelity);
-        prepare_output_directory(spec_.output_directory.string(), "/output_directory");
+        prepare_output_directory(spec_.output_directory.string(), "/output/directory");
         // Ctrl-C from here on writes the design report of what is done (exit 130); without the
         // handler, an interrupt during a field solve would end the process with nothing written.
         install_interrupt_handler();
@@ -215,6 +216,7 @@ private:
         if (table.is_object() && table.contains("plots"))
             for (const json& p : table["plots"])
                 plots.push_back((spec_.output_directory / p.get<std::string>()).string());
+        const DesignSummary summary = write_design_summary(r.rows, r.widest, spec_.output_directory / "summary.svg");
         json report = {{"mrjam_version", MRJAM_VERSION},
                        {"mode", "design"},
                        {"status", status},
@@ -232,6 +234,11 @@ private:
                        {"table", table_path()},
                        {"plots", plots},
                        {"wall_time_s", wall_time()}};
+        if (!summary.svg_path.empty())
+            report["summary_figure"] = {
+                {"svg", summary.svg_path},
+                {"png", summary.png_path},
+                {"field_of", summary.field_of.empty() ? json(nullptr) : json(summary.field_of)}};
         if (!stopped.is_null()) report["stopped"] = stopped;
         if (status == "interrupted") report["resume_with"] = resume_hint_;
         if (req_.resume) report["resumed"] = true;

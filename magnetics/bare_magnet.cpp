@@ -1,12 +1,11 @@
 #include "magnetics/bare_magnet.hpp"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
 
+#include "magnetics/gmsh_api.hpp"
 #include "magnetics/gmsh_assembly.hpp"
 
 namespace mrjam::magnetics {
@@ -36,8 +35,8 @@ BareMagnetSolution solve_bare_magnet(const Cuboid& magnet, const BareMagnetMesh&
         const double grow = 4.0 * std::max({magnet.size.x, magnet.size.y, magnet.size.z});
         request.refinements.push_back({lo - pad, lo + magnet.size + pad, mesh.magnet_size, grow});
         out.elements = mesh_assembly({{kMagnet, {{3, box}}}}, request, mesh_file).elements;
-    } catch (const std::string& gmsh_error) {
-        throw std::runtime_error("gmsh failed: " + gmsh_error);
+    } catch (const gmsh::GmshError& e) {
+        throw std::runtime_error(std::string("gmsh failed: ") + e.what());
     }
     ProblemRequest problem;
     problem.dimension = 3;

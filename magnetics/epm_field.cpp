@@ -5,6 +5,7 @@
 
 #include "core/format.hpp"
 #include "magnetics/getdp_problem.hpp"
+#include "magnetics/gmsh_api.hpp"
 #include "magnetics/magnetic_circuit.hpp"
 
 namespace mrjam::magnetics {
@@ -155,8 +156,8 @@ EpmField compute_epm_field(const EpmFieldRequest& request) {
         out.mesh_nodes = mesh.nodes;
         out.mesh_elements = mesh.elements;
         out.mesh_seconds = mesh.seconds;
-    } catch (const std::string& gmsh_error) {  // gmsh's API throws its last error as a string
-        throw std::runtime_error("gmsh failed: " + gmsh_error + " (set MRJAM_GMSH_VERBOSE=1 for its log)");
+    } catch (const gmsh::GmshError& e) {
+        throw std::runtime_error(std::string("gmsh failed: ") + e.what() + " (set MRJAM_GMSH_VERBOSE=1 for its log)");
     }
 
     ProblemRequest problem;

@@ -1,9 +1,9 @@
 #include "magnetics/epm_geometry.hpp"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "magnetics/gmsh_api.hpp"
 
 namespace mrjam::magnetics {
 

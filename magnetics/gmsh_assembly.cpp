@@ -1,7 +1,5 @@
 #include "magnetics/gmsh_assembly.hpp"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -9,6 +7,8 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+
+#include "magnetics/gmsh_api.hpp"
 
 namespace mrjam::magnetics {
 

@@ -152,6 +152,20 @@ void check_geometry(const EpmModel& m) {
 MeshSettings read_mesh(SceneNode& root, const EpmModel& m, const std::string& tier, FieldModel field_model) {
     const auto L = units::length;
     MeshSettings mesh = tier_mesh(tier);
+    // The circuit model meshes nothing: the tier's sizes are not checked against a mesh it never
+    // makes (the quick tier's 2D sizes, read as a 3D mesh, were refused as too large), and a mesh
+    // size given would be ignored, so it is refused.
+    if (field_model == FieldModel::circuit) {
+        if (auto node = root.optional_object("mesh")) {
+            for (const char* key : {"fluid_size", "device_size", "far_size", "air_box"})
+                if (node->has(key))
+                    node->fail(key,
+                               "the circuit model (model \"circuit\") makes no mesh: remove it, or give model "
+                               "\"2d\" or \"3d\"");
+            node->finish();
+        }
+        return mesh;
+    }
     if (auto node = root.optional_object("mesh")) {
         mesh.fluid_size = node->quantity("fluid_size", L, mesh.fluid_size, Bounds::positive());
         mesh.device_size = node->quantity("device_size", L, mesh.device_size, Bounds::positive());
@@ -248,6 +262,13 @@ MagneticsScene read_magnetics_scene(const nlohmann::json& user_scene, const std:
     if (out.request.map_spacing > 0.5 * m.valve.tube_inner_diameter)
         throw SceneError("/field_map/spacing", "is coarser than the bore radius; use at most a tenth of the bore");
     if (auto o = root.optional_object("output")) {
+        // The output block's keys as in every mode; those of a stepped run have no meaning here.
+        for (const char* key : {"checkpoint", "snapshots", "progress_interval"})
+            if (o->has(key))
+                o->fail(key,
+                        "a field solve is one mesh and one GetDP run, not a stepped run: it has no "
+                        "checkpoints, snapshots or progress interval (each stage is printed as it ends); "
+                        "remove it");
         out.output_directory = o->text("directory", "out/magnetics");
         out.keep_solver_files = o->boolean("keep_solver_files", false);
         o->finish();

@@ -1,7 +1,5 @@
 #include "magnetics/sphere_pair_fem.hpp"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,6 +10,7 @@
 
 #include "core/format.hpp"
 #include "magnetics/getdp_problem.hpp"
+#include "magnetics/gmsh_api.hpp"
 #include "magnetics/gmsh_assembly.hpp"
 
 namespace mrjam::magnetics {

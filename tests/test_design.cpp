@@ -35,7 +35,7 @@ json brief_design(const std::string& output_directory) {
              {{"model", {{"upstream_length", "1.1 mm"}, {"downstream_length", "0.3 mm"}}},
               {"fluid", {{"flow", "pressure"}}},
               {"protocol", protocol}}},
-            {"output_directory", output_directory}};
+            {"output", {{"directory", output_directory}}}};
 }
 
 }  // namespace
@@ -76,6 +76,11 @@ TEST_SUITE("cli") {
         const std::string table = slurp(dir.file("design/table.csv"));
         CHECK(table.rfind("point,state,constrictions/0,jam_probability,open_flow_ml_min,throat_B_T\n", 0) == 0);
         CHECK(table.find("\n30x,done,30x,") != std::string::npos);
+        // The summary figure: both plots; the analytic field has no mid-plane picture to show.
+        REQUIRE(report.contains("summary_figure"));
+        CHECK(report["summary_figure"]["field_of"].is_null());
+        CHECK(std::filesystem::exists(report["summary_figure"]["png"].get<std::string>()));
+        CHECK(slurp(report["summary_figure"]["svg"].get<std::string>()).find("Open valve") != std::string::npos);
         REQUIRE(report["plots"].size() == 2);
         for (const json& plot : report["plots"]) {
             CHECK(slurp(plot.get<std::string>()).rfind("<svg", 0) == 0);

@@ -6,6 +6,7 @@
 
 #include "contact_clusters.hpp"
 #include "core/format.hpp"
+#include "io/svg_raster.hpp"
 #include "jam/axial_resistance.hpp"
 #include "jam/closed_flow.hpp"
 #include "jam/jam_outcome.hpp"
@@ -49,7 +50,7 @@ json brief_design(const std::string& output_directory) {
     return {{"constrictions", {"30x"}},
             {"magnetics", {{"mesh", {{"fluid_size", "0.4 mm"}, {"device_size", "1 mm"}, {"far_size", "5 mm"}}}}},
             {"jam", {{"model", short_tube()}, {"fluid", {{"flow", "pressure"}}}, {"protocol", brief_protocol()}}},
-            {"output_directory", output_directory}};
+            {"output", {{"directory", output_directory}}}};
 }
 
 // A jam scene must name its field: the source's 230 mT across the valve unless `scene` gives one.
@@ -1052,7 +1053,7 @@ TEST_SUITE("cli") {
         // GetDP is part of the tool (scripts/install-deps.sh installs it): its absence fails, not skips.
         REQUIRE_MESSAGE(!mrjam::magnetics::find_getdp().empty(), "getdp is not installed: run scripts/install-deps.sh");
         TempDir dir;
-        const json design = {{"constrictions", {"30x"}}, {"output_directory", dir.file("design")}};
+        const json design = {{"constrictions", {"30x"}}, {"output", {{"directory", dir.file("design")}}}};
         write_text(dir.file("design.json"), design.dump());
         // GetDP is mrjam's child: signal both, as a terminal would.
         const std::string signal_group =
@@ -1090,6 +1091,17 @@ TEST_SUITE("cli") {
         CHECK(row["jam_probability_95ci"][1].get<double>() >= row["jam_probability"].get<double>());
         CHECK(row["open_flow_rate_m3_s"].get<double>() > 0);
         CHECK(std::filesystem::exists(dir.file("design/30x/field.map")));
+        // The solved field's picture, linked from the row and drawn in the summary figure (the
+        // only constriction is the likeliest to jam, whether or not it did).
+        REQUIRE(row.contains("field_picture"));
+        CHECK(slurp(row["field_picture"].get<std::string>()).find("data:image/png;base64,") != std::string::npos);
+        CHECK(std::filesystem::exists(mrjam::png_twin(row["field_picture"].get<std::string>())));
+        REQUIRE(report.contains("summary_figure"));
+        CHECK(report["summary_figure"]["field_of"] == "30x");
+        const std::string summary = slurp(report["summary_figure"]["svg"].get<std::string>());
+        CHECK(summary.find("Jam probability") != std::string::npos);
+        CHECK(summary.find("data:image/png;base64,") != std::string::npos);
+        CHECK(std::filesystem::file_size(report["summary_figure"]["png"].get<std::string>()) > 1000);
         CHECK(report["results"].contains("widest_reliable_constriction"));
         CHECK(report["status"] == "complete");
         CHECK(report["wall_time_s"].get<double>() > 0);
@@ -1160,7 +1172,12 @@ TEST_SUITE("cli") {
                  {{{"magnetics", {{"model", "circuit"}}}}, "/magnetics/model"},
                  {{{"jam", 5}}, "/jam"},
                  {{{"magnetics", {{"valve", 5}}}}, "/magnetics/valve"},
-                 {{{"output_directory", ""}}, "/output_directory"}}) {
+                 // The key of earlier versions, refused with the one that replaced it.
+                 {{{"output_directory", "out/x"}}, "/output_directory"},
+                 {{{"output", {{"directory", ""}}}}, "/output/directory"},
+                 // The jam runs' checkpoints are where --resume looks for them.
+                 {{{"output", {{"checkpoint", {{"path", "x.mrjam"}}}}}}, "/output/checkpoint/path"},
+                 {{{"output", {{"snapshots", {{"format", "obj"}}}}}}, "/output/snapshots/format"}}) {
             json changed = design;
             changed.update(change);
             write_text(dir.file("changed.json"), changed.dump());
@@ -1179,7 +1196,7 @@ TEST_SUITE("cli") {
     // second, and the first seed before it), so the second seed resumes from its checkpoint after the
     // first seed's record is read back from the design's progress; a signal that lands in the first
     // seed or in the meshing is resumed just as well (a signal during GetDP's solve is ignored by
-    // mrjam, which waits on it: then the run finishes and there is nothing to resume).
+    // mrjam, which waits on it: then the design finishes, and the signal is tried again earlier).
     TEST_CASE("design --resume: an interrupted design ends as the uninterrupted one") {
         // GetDP is part of the tool (scripts/install-deps.sh installs it): its absence fails, not skips.
         REQUIRE_MESSAGE(!mrjam::magnetics::find_getdp().empty(), "getdp is not installed: run scripts/install-deps.sh");
@@ -1206,16 +1223,12 @@ TEST_SUITE("cli") {
         const double jam_seed_s =
             json::parse(slurp(dir.file("full/30x/jam_report_seed2.json")))["wall_time_s"].get<double>();
         const double delay = std::max(0.1, a["wall_time_s"].get<double>() - 0.5 * jam_seed_s);
-        const Result cut =
-            mrjam_test::mrjam(dir,
-                              "design " + quote(dir.file("cut.json")) + " --report " +
-                                  quote(dir.file("cut_report.json")) + " --fidelity quick --quiet",
-                              " & pid=$!; sleep " + std::to_string(delay) + "; kill -INT $pid; wait $pid");
-        if (cut.exit_code == 0) {
-            MESSAGE(
-                "the signal missed the design (it finished first, or came during GetDP's solve): nothing to resume");
-            return;
-        }
+        // A signal during GetDP's solve is ignored (the design finishes): tried again earlier.
+        const Result cut = mrjam_test::mrjam_interrupted(
+            dir,
+            "design " + quote(dir.file("cut.json")) + " --report " + quote(dir.file("cut_report.json")) +
+                " --fidelity quick --quiet",
+            delay, [&](const Result&) { return std::filesystem::exists(dir.file("cut_report.json")); });
         CAPTURE(cut.err);
         REQUIRE(cut.exit_code == 130);
         const json c = json::parse(slurp(dir.file("cut_report.json")));
@@ -1249,8 +1262,10 @@ TEST_SUITE("cli") {
         auto results = [](json report, const std::string& out) {
             json rows = report["results"]["constrictions"];
             for (auto& row : rows) {
-                CHECK(row["field_map"].get<std::string>().find(out) != std::string::npos);
-                row.erase("field_map");
+                for (const char* file : {"field_map", "field_picture", "throat_picture"}) {
+                    CHECK(row[file].get<std::string>().find(out) != std::string::npos);
+                    row.erase(file);
+                }
                 for (auto& run : row["runs"]) run.erase("jam_report");
             }
             return rows;

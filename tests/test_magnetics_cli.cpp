@@ -50,6 +50,14 @@ TEST_SUITE("cli") {
         s["output"] = {{"directory", dir.file("a_file")}};
         expect_magnetics_refused(dir, "output_on_a_file", s, "/output/directory: cannot create the directory");
         s = base;
+        s["mesh"] = {{"fluid_size", "0.1 mm"}};  // the circuit makes no mesh to apply it to
+        expect_magnetics_refused(dir, "circuit_mesh", s, "/mesh/fluid_size: the circuit model");
+        // ... and the quick tier's 2D mesh sizes are no reason to refuse it (they were, read as 3D).
+        CHECK(mrjam_test::run_mode(dir, "magnetics", "circuit_quick", base, "--fidelity quick").exit_code == 0);
+        s = base;
+        s["output"] = {{"checkpoint", {{"every_steps", 10}}}};  // a stepped run's key: no meaning for one solve
+        expect_magnetics_refused(dir, "output_checkpoint", s, "/output/checkpoint: a field solve is one mesh");
+        s = base;
         s["variant"] = "round";
         expect_magnetics_refused(dir, "variant", s, "/variant");
         s = base;

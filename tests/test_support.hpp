@@ -132,6 +132,25 @@ inline Result mrjam(const TempDir& dir, const std::string& args, const std::stri
     return r;
 }
 
+// Runs `mrjam ARGS` and sends it SIGINT `delay` seconds after it starts, as Ctrl-C would. Where
+// the signal lands is the machine's timing: a run that finished first is tried again with half the
+// delay, one stopped before it had anything to keep (`caught` false) with twice the delay, up to
+// six tries. A run the signal never caught fails the test rather than passing with nothing checked;
+// a run that failed otherwise is returned for the caller's checks to name.
+template <class Caught>
+Result mrjam_interrupted(const TempDir& dir, const std::string& args, double delay, Caught caught) {
+    for (int attempt = 0; attempt < 6; ++attempt) {
+        const Result r = mrjam(dir, args, " & pid=$!; sleep " + std::to_string(delay) + "; kill -INT $pid; wait $pid");
+        if (r.exit_code == 130 && caught(r)) return r;
+        if (r.exit_code != 0 && r.exit_code != 130) return r;
+        MESSAGE("the signal after " << delay << " s " << (r.exit_code == 0 ? "came after the run" : "came too early")
+                                    << ": trying again");
+        delay = r.exit_code == 0 ? 0.5 * delay : 2 * delay;
+    }
+    FAIL("the signal never landed inside the run in six tries (the last delay " << delay << " s)");
+    return {};
+}
+
 #ifdef MRJAM_BENCH_BINARY
 // `mrjam-bench ARGS`, the benchmarks' executable.
 inline Result mrjam_bench(const TempDir& dir, const std::string& args) {

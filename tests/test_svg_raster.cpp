@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "io/png_image.hpp"
+#include "io/svg_figure.hpp"
 #include "io/svg_plot.hpp"
 #include "io/svg_raster.hpp"
 #include "test_support.hpp"
@@ -111,5 +113,43 @@ TEST_SUITE("unit") {
         const Decoded d = decode(png);
         CHECK(d.width == 30);
         CHECK(d.height == 30);
+    }
+
+    TEST_CASE("svg figure: a scalar map's pixels, colour scale and scale bar reach the PNG; panels sit side by side") {
+        mrjam_test::TempDir dir("mrjam_svg_map");
+        // A 2 mm x 1 mm plane, 8 x 4 nodes: the left half at the scale's bottom, the right at its top.
+        mrjam::ScalarMapFigure f;
+        f.title = "two halves";
+        f.nx = 8;
+        f.ny = 4;
+        for (int y = 0; y < f.ny; ++y)
+            for (int x = 0; x < f.nx; ++x) f.values.push_back(x < 4 ? 0.0 : 300.0);
+        f.width_m = 2e-3;
+        f.height_m = 1e-3;
+        f.vmin = 0;
+        f.vmax = 300;
+        f.unit = "|B| (mT)";
+        const mrjam::SvgPanel panel = mrjam::scalar_map_panel(f);
+        // Ticks every 100 mT (about five over the scale), a 0.5 mm bar (about a fifth of the width).
+        for (const char* label : {">0<", ">100<", ">300<", ">0.5 mm<", ">|B| (mT)<"})
+            CHECK_MESSAGE(panel.svg.find(label) != std::string::npos, label);
+        const std::string svg = dir.file("map.svg");
+        mrjam::write_figure(svg, panel.svg);
+        const Decoded d = decode(mrjam::png_twin(svg));
+        // The picture is 360 x 180 units from (20, 40), drawn at 2 pixels a unit; the embedded
+        // PNG's colours must come through: viridis' ends in the two halves.
+        const auto low = mrjam::viridis(0), high = mrjam::viridis(1);
+        const std::uint8_t* left = d.at(2 * (20 + 90), 2 * (40 + 90));
+        const std::uint8_t* right = d.at(2 * (20 + 270), 2 * (40 + 90));
+        for (int c = 0; c < 3; ++c) {
+            CHECK(std::abs(left[c] - low[c]) <= 3);
+            CHECK(std::abs(right[c] - high[c]) <= 3);
+        }
+        // Side by side under a title: the row is as wide as the panels together.
+        const std::string row = mrjam::svg_row("both", {panel, panel});
+        CHECK(row.find("width=\"" + std::to_string(static_cast<int>(2 * panel.width))) != std::string::npos);
+        CHECK(row.find("<svg x=\"" + std::to_string(static_cast<int>(panel.width)) + "\"") != std::string::npos);
+        f.width_m = 0;
+        CHECK_THROWS_AS(mrjam::scalar_map_panel(f), std::invalid_argument);
     }
 }

@@ -1,5 +1,7 @@
 #include "io/snapshot.hpp"
 
+#include <glib.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -184,18 +186,19 @@ void write_vtk_legacy(Output& file, const Particles& p, long step, double time,
 
 // ---- VTK XML -----------------------------------------------------------------------------
 
-// Base64 encoder that accepts bytes piecewise; one stream per DataArray, as VTK itself writes
-// uncompressed inline data (header and payload encoded as one continuous stream).
+// Base64 (GLib's streaming encoder, loaded with librsvg) fed bytes piecewise; one stream per
+// DataArray, as VTK itself writes uncompressed inline data (header and payload encoded as one
+// continuous stream).
 class Base64 {
 public:
     explicit Base64(std::string& out) : out_(out) {}
 
     void bytes(const void* data, std::size_t size) {
-        const auto* b = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < size; ++i) {
-            pending_[count_++] = b[i];
-            if (count_ == 3) emit();
-        }
+        const std::size_t at = out_.size();
+        out_.resize(at + (size / 3 + 1) * 4 + 4);  // what g_base64_encode_step may write
+        const gsize written =
+            g_base64_encode_step(static_cast<const guchar*>(data), size, FALSE, out_.data() + at, &state_, &save_);
+        out_.resize(at + written);
     }
 
     template <class T>
@@ -205,25 +208,14 @@ public:
     }
 
     void finish() {
-        if (count_ > 0) emit();
+        const std::size_t at = out_.size();
+        out_.resize(at + 5);  // what g_base64_encode_close may write
+        out_.resize(at + g_base64_encode_close(FALSE, out_.data() + at, &state_, &save_));
     }
 
 private:
-    void emit() {
-        static constexpr char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        const unsigned b0 = pending_[0];
-        const unsigned b1 = count_ > 1 ? pending_[1] : 0u;
-        const unsigned b2 = count_ > 2 ? pending_[2] : 0u;
-        out_ += table[b0 >> 2];
-        out_ += table[((b0 & 0x3u) << 4) | (b1 >> 4)];
-        out_ += count_ > 1 ? table[((b1 & 0xFu) << 2) | (b2 >> 6)] : '=';
-        out_ += count_ > 2 ? table[b2 & 0x3Fu] : '=';
-        count_ = 0;
-    }
-
     std::string& out_;
-    unsigned char pending_[3] = {0, 0, 0};
-    int count_ = 0;
+    gint state_ = 0, save_ = 0;
 };
 
 // Opens a binary DataArray, writes the UInt64 byte-count header, calls body(encoder) to encode

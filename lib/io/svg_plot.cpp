@@ -26,16 +26,15 @@ std::string svg_escape(const std::string& s) {
     return out;
 }
 
-namespace {
-
-// "Nice" tick spacing: 1, 2 or 5 times a power of ten, about five ticks over the range.
-double tick_step(double span) {
-    const double raw = span / 5;
+double nice_step(double span, int count) {
+    const double raw = span / count;
     const double p = std::pow(10.0, std::floor(std::log10(raw)));
     for (double m : {1.0, 2.0, 5.0, 10.0})
         if (m * p >= raw) return m * p;
     return 10 * p;
 }
+
+namespace {
 
 std::string num(double v) {
     char b[32];
@@ -74,7 +73,7 @@ Axis make_axis(bool log, double lo, double hi, bool from_zero, bool pad_top) {
     if (from_zero) lo = std::min(lo, 0.0);
     if (hi <= lo) hi = lo + 1;
     if (pad_top) hi += 0.05 * (hi - lo);
-    a.step = tick_step(hi - lo);
+    a.step = nice_step(hi - lo, 5);
     a.hi = std::ceil(hi / a.step) * a.step;
     a.lo = std::floor(lo / a.step) * a.step;
     return a;
@@ -90,7 +89,7 @@ std::pair<double, double> bar(const PlotSeries& s, std::size_t k) {
 
 }  // namespace
 
-void write_svg(const std::string& path, const Plot& plot) {
+SvgPanel plot_panel(const Plot& plot) {
     // The legend sits right of the frame; the canvas widens for long labels (about 7 units a
     // character at 12 px sans-serif) instead of cutting them off.
     std::size_t longest = 0;
@@ -171,9 +170,13 @@ void write_svg(const std::string& path, const Plot& plot) {
         ly += 20;
     }
     o << "</svg>\n";
+    return {o.str(), W, H};
+}
+
+void write_svg(const std::string& path, const Plot& plot) {
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    write_svg_document(path, o.str());
+    write_svg_document(path, plot_panel(plot).svg);
 }
 
 }  // namespace mrjam

@@ -26,6 +26,20 @@ struct Plot {
     bool log_x = false, log_y = false;
 };
 
+// A finished SVG element (<svg ...>...</svg>) and its size in SVG units, to be written alone or
+// placed beside others in one figure (io/svg_figure.hpp).
+struct SvgPanel {
+    std::string svg;
+    double width = 0, height = 0;
+};
+
+// The plot as an SVG element.
+SvgPanel plot_panel(const Plot& plot);
+
+// A "nice" spacing, 1, 2 or 5 times a power of ten, of at least span / count: about `count`
+// ticks over the span.
+double nice_step(double span, int count);
+
 // Text made safe inside an SVG element: <, > and & as entities.
 std::string svg_escape(const std::string& s);
 
