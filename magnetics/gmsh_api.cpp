@@ -1,10 +1,11 @@
 #include "magnetics/gmsh_api.hpp"
 
-#include <dlfcn.h>
 // Declarations only: the functions are reached through dlsym, never linked.
 #include <gmshc.h>
 
 #include <type_traits>
+
+#include "core/shared_library.hpp"
 
 namespace mrjam::gmsh_api {
 namespace {
@@ -56,26 +57,14 @@ struct Library {
 #undef MRJAM_GMSH_POINTER
 };
 
-void* open_library() {
-    // The soname first (the runtime package's file), then the file CMake found.
-    for (const char* name : {MRJAM_GMSH_SONAME, MRJAM_GMSH_PATH})
-        if (void* handle = dlopen(name, RTLD_NOW | RTLD_LOCAL)) return handle;
-    const char* why = dlerror();
-    throw GmshError(std::string("gmsh's library (") + MRJAM_GMSH_SONAME + ") could not be loaded: " +
-                    (why ? why : "unknown reason") + "; install it with bash scripts/install-deps.sh");
-}
-
 Library load() {
-    void* handle = open_library();
+    const std::string fix = "install it with bash scripts/install-deps.sh";
+    const SharedLibrary gmsh = SharedLibrary::open<GmshError>(MRJAM_GMSH_SONAME, MRJAM_GMSH_PATH, fix);
     Library api;
-#define MRJAM_GMSH_RESOLVE(name)                                                                    \
-    api.name = reinterpret_cast<decltype(api.name)>(dlsym(handle, "gmsh" #name));                   \
-    if (!api.name)                                                                                  \
-        throw GmshError(std::string("gmsh's library ") + MRJAM_GMSH_SONAME + " has no gmsh" #name + \
-                        ": install the gmsh this build was made with (bash scripts/install-deps.sh)");
+#define MRJAM_GMSH_RESOLVE(name) gmsh.resolve<GmshError>(api.name, "gmsh" #name, fix);
     MRJAM_GMSH_FUNCTIONS(MRJAM_GMSH_RESOLVE)
 #undef MRJAM_GMSH_RESOLVE
-    return api;  // the handle stays open for the process: gmsh keeps global state
+    return api;
 }
 
 const Library& api() {

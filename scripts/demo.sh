@@ -18,6 +18,6 @@ echo "installed: $mrjam (add $PREFIX/bin to PATH to type mrjam)"
 # The engine on its own: grains settling in a box, with ParaView snapshots.
 "$mrjam" run examples/settle_column.json --report out/settle_column/report.json --quiet
 echo "design report: out/design_quick/report.json (per constriction: field, jam outcome, open flow);"
-echo "  table.csv and plots of jam probability and open flow against the constriction in out/design_quick/;"
+echo "  the summary figure out/design_quick/summary.png (jam probability, open flow, the field), table.csv;"
 echo "  the field map, the jam report and a picture of the throat under out/design_quick/<constriction>/"
 echo "DEM report: out/settle_column/report.json; snapshots (ParaView): out/settle_column/snapshot_*.vtk"
