@@ -132,7 +132,7 @@ TEST_SUITE("unit") {
         const mrjam::SvgPanel panel = mrjam::scalar_map_panel(f);
         // Ticks every 100 mT (about five over the scale), a 0.5 mm bar (about a fifth of the width).
         for (const char* label : {">0<", ">100<", ">300<", ">0.5 mm<", ">|B| (mT)<"})
-            CHECK_MESSAGE(panel.svg.find(label) != std::string::npos, label);
+            CHECK_MESSAGE(panel.svg.find(label) != std::string::npos, std::string(label));
         const std::string svg = dir.file("map.svg");
         mrjam::write_figure(svg, panel.svg);
         const Decoded d = decode(mrjam::png_twin(svg));
