@@ -103,7 +103,7 @@ TEST_SUITE("unit") {
                          std::abs(u[j] - G / beta * (1 - std::cyl_bessel_i(0, r / L) / std::cyl_bessel_i(0, R / L))));
         }
         CHECK(e < 1e-3 * G / beta);
-        CHECK(u[0] == doctest::Approx(G / beta).epsilon(1e-3));  // Darcy's speed far from the wall
+        CHECK(u[0] == mrjam_test::rel(G / beta).epsilon(1e-3));  // Darcy's speed far from the wall
     }
 
     TEST_CASE("brinkman slice: grains moving through a dense bed carry the fluid with them") {
@@ -142,10 +142,10 @@ TEST_SUITE("unit") {
         const double z = -0.5e-3, R = v.passage_radius(z);
         CHECK(cf.field()->velocity({1.001 * R, 0, z}, 0).z == 0.0);
         const Vec3 u = cf.field()->velocity({0.5 * R, 0, z}, 0);
-        CHECK(u.x / u.z == doctest::Approx(0.5 * (v.throat_radius() - v.bore_radius()) / v.taper_length));
+        CHECK(u.x / u.z == mrjam_test::rel(0.5 * (v.throat_radius() - v.bore_radius()) / v.taper_length));
         // Past the exit the jet's edge is the stream's, and the corner outside it is still.
         const double zj = v.throat_end_z() + 0.1e-3, rf = cf.field()->stream_radius(zj);
-        CHECK(rf == doctest::Approx(0.5 * (v.throat_radius() + v.bore_radius())));
+        CHECK(rf == mrjam_test::rel(0.5 * (v.throat_radius() + v.bore_radius())));
         CHECK(cf.field()->velocity({0.5 * rf, 0, zj}, 0).z > 0);
         CHECK(cf.field()->velocity({1.01 * rf, 0, zj}, 0).z == 0.0);
         CHECK(cf.field()->ring_at({1.01 * rf, 0, zj}) == -1);
