@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "magnetic/magnetic_model.hpp"
@@ -36,6 +37,15 @@ private:
     Vec3 b_;
 };
 
+// The linear table for one permeability, built once per test run: every pair here uses the same
+// settings, and each build solves the exact two-sphere problem at every tabulated gap (seconds).
+const ClosePairTable& table(double mu, const ClosePairSettings& settings) {
+    static std::map<double, ClosePairTable> built;
+    auto it = built.find(mu);
+    if (it == built.end()) it = built.emplace(mu, ClosePairTable(mu, settings)).first;
+    return it->second;
+}
+
 struct Pair {
     Particles p;
     MagneticModel model;
@@ -52,7 +62,7 @@ struct Pair {
         model.settings.max_iterations = 1000;
         model.settings.cutoff_scale = 3.0;
         model.settings.close_pairs = {corrected, ClosePairModel::linear, 0.01, 1.0};
-        if (corrected) model.close_pair_table = ClosePairTable(mu, model.settings.close_pairs);
+        if (corrected) model.close_pair_table = table(mu, model.settings.close_pairs);
         domain.lo = {-1, -1, -1};
         domain.hi = {1, 1, 1};
         const double beta = (mu - 1) / (mu + 2);
