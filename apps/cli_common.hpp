@@ -26,6 +26,10 @@ using mrjam::kExitInterrupted;
 // docs/benchmarks.md, "Threads on a busy machine", measures both policies.
 void ensure_passive_openmp_wait(char** argv);
 
+// --threads, the same in every mode.
+inline constexpr const char* kThreadsHelp =
+    "OpenMP threads (default: one per 800 grains, at most the machine's cores, or OMP_NUM_THREADS)";
+
 // Parses the command line and runs the chosen subcommand's callback, turning what it throws into
 // the exit status: bad input (a CLI error, a SceneError naming the key) 2, a blow-up 3, another
 // fault 1; otherwise the status the callback set.

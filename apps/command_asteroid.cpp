@@ -31,7 +31,7 @@ struct AsteroidArgs {
     std::string report = "asteroid_report.json";
     std::string resume;
     std::string fidelity = "quick";
-    int threads = machine_threads();  // the cores this process may use
+    int threads = kAutoThreads;  // chosen from the grains once they are placed (threads_for)
     bool quiet = false;
 };
 
@@ -141,9 +141,7 @@ void add_asteroid_command(CLI::App& app, int& exit_status) {
                         "coalesce, spinup: quick (4,000 grains) or standard/paper (the source's 32,662)")
             ->check(CLI::IsMember({"quick", "standard", "paper"}))
             ->capture_default_str();
-    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
+    cmd->add_option("--threads", args->threads, kThreadsHelp)->check(CLI::Range(1, 1024));
     cmd->add_option("--report", args->report, "Where to write the JSON report (the plot goes next to it)")
         ->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "Only the report's path on stderr");

@@ -22,10 +22,8 @@ void add_design_command(CLI::App& app, int& exit_status) {
         cmd->add_option("--fidelity", req->fidelity, "Tier for both models: quick, standard or paper")
             ->check(CLI::IsMember(std::vector<std::string>{"quick", "standard", "paper"}))
             ->capture_default_str();
-    req->threads = machine_threads();  // the cores this process may use
-    cmd->add_option("--threads", req->threads, "OpenMP threads (default: the machine's cores)")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
+    req->threads = kAutoThreads;  // chosen from the grains once they are placed (threads_for)
+    cmd->add_option("--threads", req->threads, kThreadsHelp)->check(CLI::Range(1, 1024));
     cmd->add_flag("--quiet", *quiet, "No progress lines on stderr");
     cmd->add_flag("--resume", req->resume,
                   "Continue the interrupted design of this file: finished constrictions and solved fields are kept, "

@@ -35,10 +35,8 @@ void add_jam_command(CLI::App& app, int& exit_status) {
         cmd->add_option("--seeds", req->seeds, "Independent packings (seed, seed+1, ...): jam probability")
             ->check(CLI::Range(1, 1000))
             ->capture_default_str();
-    req->threads = machine_threads();  // the cores this process may use
-    cmd->add_option("--threads", req->threads, "OpenMP threads (default: the machine's cores)")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
+    req->threads = kAutoThreads;  // chosen from the grains once they are placed (threads_for)
+    cmd->add_option("--threads", req->threads, kThreadsHelp)->check(CLI::Range(1, 1024));
     cmd->add_flag("--quiet", *quiet, "No progress lines on stderr");
     cmd->callback([req, quiet, fidelity, seeds_option, &exit_status] {
         if (req->scene_path.empty() == req->resume.empty())

@@ -22,7 +22,7 @@ struct RunArgs {
     std::string scene;
     std::string report = "report.json";
     std::string resume;
-    int threads = machine_threads();  // the cores this process may use
+    int threads = kAutoThreads;  // chosen from the grains once they are placed (threads_for)
     bool quiet = false;
     std::string fidelity = "standard";
 };
@@ -34,9 +34,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
     cmd->add_option("scene", args->scene, "Scene JSON file (see docs/scene.md)");
     cmd->add_option("--report", args->report, "Where to write the JSON report")->capture_default_str();
     cmd->add_option("--resume", args->resume, "Continue from a checkpoint written by an earlier run");
-    cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
+    cmd->add_option("--threads", args->threads, kThreadsHelp)->check(CLI::Range(1, 1024));
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")

@@ -31,7 +31,7 @@ struct ShearArgs {
     int max_runs = 8;
     bool converge = false;
     int jobs = 0;
-    int threads = machine_threads();  // the cores this process may use
+    int threads = kAutoThreads;  // chosen from the grains once they are placed (threads_for)
     bool quiet = false;
     std::string fidelity = "standard";
 };
@@ -42,7 +42,11 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     report["mode"] = "shear";
     report["scene_file"] = scene_file;
     report["seed"] = spec.seed;
-    report["threads"] = threads;
+    // The count the first cell ran on (chosen from its grains unless --threads); a checkpoint
+    // written before it was recorded gives the one asked for.
+    report["threads"] = out.engine.is_object() && out.engine.contains("threads")
+                            ? out.engine["threads"].get<int>()
+                            : (threads > 0 ? threads : machine_threads());
     report["inputs"] = spec.resolved;
     nlohmann::json fid = describe(shear_tier(spec.tier));
     // The first cell's engine scene (null from a checkpoint written before it was recorded there).
@@ -117,9 +121,7 @@ void add_shear_command(CLI::App& app, int& exit_status) {
                                         "With --converge: runs side by side (default: the machine's cores, their "
                                         "threads sharing them unless --threads)")
                             ->check(CLI::Range(1, 1024));
-    CLI::Option* threads = cmd->add_option("--threads", args->threads, "OpenMP threads for the force loops")
-                               ->check(CLI::Range(1, 1024))
-                               ->capture_default_str();
+    CLI::Option* threads = cmd->add_option("--threads", args->threads, kThreadsHelp)->check(CLI::Range(1, 1024));
     cmd->add_flag("--quiet", args->quiet, "No progress lines on stderr");
     CLI::Option* fidelity =
         cmd->add_option("--fidelity", args->fidelity, "Tier of defaults: quick, standard or paper (scene settings win)")

@@ -8,6 +8,7 @@
 #include <omp.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -178,13 +179,24 @@ TEST_SUITE("cli") {
               rel(a["results"]["kinetic_energy_J"].get<double>()).epsilon(1e-6));
     }
 
-    TEST_CASE("cli: without --threads a run takes the machine's cores, or OMP_NUM_THREADS when set") {
+    TEST_CASE(
+        "cli: without --threads a run takes a thread per 800 grains up to the machine's cores, or OMP_NUM_THREADS") {
         TempDir dir;
         const char* before = std::getenv("OMP_NUM_THREADS");
         const std::string saved = before ? before : "";
         unsetenv("OMP_NUM_THREADS");
-        REQUIRE(run_scene(dir, "cores", small_scene()).exit_code == 0);
-        CHECK(read_report(dir, "cores")["threads"] == omp_get_num_procs());
+        // 124 grains: one thread, whatever the machine (a second one would only wait).
+        REQUIRE(run_scene(dir, "small", small_scene()).exit_code == 0);
+        CHECK(read_report(dir, "small")["threads"] == 1);
+        // About 4,600 grains: five threads' worth, as many as the machine has up to that.
+        json big = small_scene();
+        big["domain"]["hi"] = {"20 mm", "20 mm", "20 mm"};
+        big["run"]["steps"] = 20;
+        REQUIRE(run_scene(dir, "cores", big).exit_code == 0);
+        const json cores = read_report(dir, "cores");
+        const long grains = cores["results"]["grains"].get<long>();
+        REQUIRE(grains >= 1600);
+        CHECK(cores["threads"] == std::min<long>(omp_get_num_procs(), grains / 800));
         setenv("OMP_NUM_THREADS", "3", 1);
         REQUIRE(run_scene(dir, "env", small_scene()).exit_code == 0);
         CHECK(read_report(dir, "env")["threads"] == 3);

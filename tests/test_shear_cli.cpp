@@ -363,7 +363,7 @@ TEST_SUITE("cli") {
         TempDir dir;
         json scene = small_scene("");
         // A sweep rate that is not on the ladder, so the progress lines tell the cells apart.
-        scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1200 1/s"}, {"strain", 0.05}};
+        scene["field_sweep"] = {{"flux_densities", {"200 mT", "400 mT"}}, {"shear_rate", "1200 1/s"}, {"strain", 0.02}};
         check_resume_matches(dir, scene, 0.85);
     }
 

@@ -70,6 +70,7 @@ struct Scene {
     double timestep_safety = 0.1;
     double requested_timestep = 0;                // 0: automatic
     double skin_fraction = kDefaultSkinFraction;  // Verlet skin as a fraction of the mean diameter
+    int requested_threads = 0;                    // BuildOptions::threads (0: by the grains, threads_for)
     TimestepLimits limits;
     json resolved;  // the scene with every default filled in, SI numbers
     json fidelity;  // the tier and the defaults it implied
@@ -82,8 +83,8 @@ struct Scene {
 };
 
 struct BuildOptions {
-    bool insert_grains = true;  // false when a checkpoint supplies the grains
-    int threads = 1;
+    bool insert_grains = true;          // false when a checkpoint supplies the grains
+    int threads = 1;                    // kAutoThreads (0): chosen by choose_timestep from the grains (threads_for)
     std::string base_directory;         // relative file names in the scene (field maps) are taken from here
     std::string fidelity = "standard";  // tier whose defaults apply (scene settings win)
 };

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/exit_status.hpp"
+#include "core/machine_threads.hpp"
 #include "geometry/disc_packing.hpp"
 #include "geometry/packing.hpp"
 #include "run/interrupt.hpp"
@@ -492,7 +493,9 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     root.text("description", "");
     scene.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0));
     System& s = scene.system;
-    s.threads = options.threads;
+    // Until the grains are known (choose_timestep), an automatic count runs on the machine's cores.
+    scene.requested_threads = options.threads;
+    s.threads = options.threads > 0 ? options.threads : machine_threads();
     s.domain = read_domain(root.object("domain"));
 
     const std::vector<std::string> names = read_materials(root, s);
@@ -551,6 +554,7 @@ void choose_timestep(Scene& scene) {
     System& s = scene.system;
     Particles& p = s.particles;
     if (p.size() == 0) throw SceneError("/grains", "no grains were placed; check the placement regions and sizes");
+    s.threads = threads_for(p.size(), scene.requested_threads);
     double r_sum = 0, r_max = 0;
     for (double r : p.radius) {
         r_sum += r;

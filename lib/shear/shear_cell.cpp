@@ -250,6 +250,7 @@ private:
     nlohmann::json engine_info() const {
         return {{"inputs", scene_->resolved},
                 {"fidelity", scene_->fidelity},
+                {"threads", scene_->system.threads},
                 {"timestep",
                  {{"used_s", scene_->system.dt},
                   {"critical_s", scene_->limits.critical},
