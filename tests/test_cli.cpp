@@ -197,6 +197,16 @@ TEST_SUITE("cli") {
         const long grains = cores["results"]["grains"].get<long>();
         REQUIRE(grains >= 1600);
         CHECK(cores["threads"] == std::min<long>(omp_get_num_procs(), grains / 800));
+        // A resumed run without --threads goes on with its checkpoint's count (3, more than the
+        // automatic one here), so it stays bit for bit whatever its grains have become.
+        json three = big;
+        three["output"] = {{"directory", dir.file("three")},
+                           {"checkpoint", {{"every_steps", 10}, {"path", dir.file("three.mrjam")}}}};
+        REQUIRE(run_scene(dir, "three", three, "--threads 3").exit_code == 0);
+        const Result resumed = mrjam(dir, "run --resume " + quote(dir.file("three.mrjam")) + " --report " +
+                                              quote(dir.file("resumed_report.json")) + " --quiet");
+        REQUIRE(resumed.exit_code == 0);
+        CHECK(read_report(dir, "resumed")["threads"] == 3);
         setenv("OMP_NUM_THREADS", "3", 1);
         REQUIRE(run_scene(dir, "env", small_scene()).exit_code == 0);
         CHECK(read_report(dir, "env")["threads"] == 3);

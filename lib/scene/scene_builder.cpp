@@ -530,6 +530,12 @@ Scene build_scene(const json& input, const BuildOptions& options) {
     // recomputed from the grains by choose_timestep(): accept it here so such a scene reads back,
     // but ignore its value.
     run.has("timestep_used");
+    // The count an automatic run chose (choose_timestep) rides along the same way; a resumed run
+    // without --threads takes it again, so it goes on bit for bit even when its grains have
+    // drained below the count's threshold since.
+    const long long threads_used = run.integer("threads_used", 0, 0, 1024);
+    if (options.threads == kAutoThreads && !options.insert_grains && threads_used > 0)
+        scene.requested_threads = static_cast<int>(threads_used);
     s.max_overlap_fraction = run.number("max_overlap_fraction", 0.1, Bounds::open(0.0, 1.0));
     // Verlet skin, as a fraction of the mean grain diameter.
     const double skin_fraction = run.number("skin", kDefaultSkinFraction, Bounds::open_closed(0.0, 2.0));
@@ -611,6 +617,7 @@ void choose_timestep(Scene& scene) {
     check_pair_memory(s);
     check_plausible_motion(scene);
     scene.resolved["run"]["timestep_used"] = s.dt;
+    scene.resolved["run"]["threads_used"] = s.threads;
     // A duration over the step: far more steps than any run could take (kMostSteps) is refused.
     for (Stage& st : scene.stages) {
         if (st.steps >= 0) continue;
