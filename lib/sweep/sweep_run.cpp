@@ -139,7 +139,8 @@ std::vector<std::string> point_command(const SweepSpec& spec, const SweepOptions
         args.insert(args.end(), spec.args.begin(), spec.args.end());
     }
     args.insert(args.end(), {"--report", (folder / "report.json").string()});
-    if (mode != "magnetics") args.insert(args.end(), {"--threads", std::to_string(o.threads)});
+    // Without a count (one point at a time, none given) each run chooses from its own grains.
+    if (mode != "magnetics" && o.threads > 0) args.insert(args.end(), {"--threads", std::to_string(o.threads)});
     return args;
 }
 
@@ -383,7 +384,9 @@ int run_sweep_spec(const SweepSpec& spec, const SweepOptions& options, const Swe
     // Only processes run side by side; a mode's own points run one at a time in it.
     if (engine.run_point) o.jobs = 1;
     // Ranks on one node would share its cores: one thread each unless told; jobs share them too.
-    if (o.threads <= 0) o.threads = queue->size() > 1 ? 1 : std::max(1, machine_threads() / o.jobs);
+    // One point at a time takes the automatic count (threads_for: by the point's grains).
+    if (o.threads <= 0)
+        o.threads = queue->size() > 1 ? 1 : (o.jobs > 1 ? std::max(1, machine_threads() / o.jobs) : kAutoThreads);
     // The leader writes the registry; the others read it once it is there.
     json registry_points = queue->leader() ? open_registry(sw, points, true) : json();
     queue->synchronise();
