@@ -67,7 +67,6 @@ void set_design_key(json& scene, const std::string& scene_path, const std::strin
     if (scene.is_object() && scene.contains(key)) throw SceneError(scene_path + "/" + key, fix);
     scene[key] = std::move(value);
 }
-}  // namespace
 
 // The design's output block: its directory, and the keys each constriction's jam run takes as its
 // own. A checkpoint's path is the jam run's to choose (where --resume looks), so it is refused.
@@ -83,6 +82,7 @@ void read_design_output(SceneNode& root, DesignSpec& spec) {
     spec.jam_output = spec.design.contains("output") ? spec.design["output"] : json::object();
     spec.jam_output.erase("directory");
 }
+}  // namespace
 
 DesignSpec read_design_spec(const json& design, const std::string& design_path) {
     if (!design.is_object()) throw SceneError("", "a design scene is a JSON object");
