@@ -16,12 +16,6 @@ namespace mrjam {
 
 namespace {
 
-std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
-    return b;
-}
-
 std::string hex(const std::array<std::uint8_t, 3>& c) {
     char b[8];
     std::snprintf(b, sizeof b, "#%02x%02x%02x", c[0], c[1], c[2]);
@@ -40,8 +34,8 @@ std::string png_data_uri(const ScalarMapFigure& f) {
 // A round length (1, 2 or 5 times a power of ten) near a fifth of `extent`, and its label.
 std::pair<double, std::string> scale_length(double extent) {
     const double length = nice_step(extent, 5);
-    if (length >= 1e-4) return {length, num(length * 1e3) + " mm"};
-    return {length, num(length * 1e6) + " um"};
+    if (length >= 1e-4) return {length, svg_number(length * 1e3) + " mm"};
+    return {length, svg_number(length * 1e6) + " um"};
 }
 
 // A vertical viridis bar at (x, y), `height` tall, vmin at the bottom, with ticks and the unit.
@@ -56,7 +50,8 @@ void colour_bar(std::ostringstream& o, const ScalarMapFigure& f, double x, doubl
     for (double t = std::ceil(f.vmin / step) * step; t <= f.vmax + 1e-9 * step; t += step) {
         const double ty = y + height * (1 - (t - f.vmin) / span);
         o << "<line x1=\"" << x + 16 << "\" y1=\"" << ty << "\" x2=\"" << x + 20 << "\" y2=\"" << ty
-          << "\" stroke=\"black\"/>\n<text x=\"" << x + 23 << "\" y=\"" << ty + 4 << "\">" << num(t) << "</text>\n";
+          << "\" stroke=\"black\"/>\n<text x=\"" << x + 23 << "\" y=\"" << ty + 4 << "\">" << svg_number(t)
+          << "</text>\n";
     }
     o << "<text x=\"" << x << "\" y=\"" << y - 8 << "\">" << svg_escape(f.unit) << "</text>\n";
 }

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
+#include "io/svg_figure.hpp"
 #include "io/svg_raster.hpp"
 
 namespace mrjam {
@@ -34,15 +34,13 @@ double nice_step(double span, int count) {
     return 10 * p;
 }
 
-namespace {
-
-std::string num(double v) {
+std::string svg_number(double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", v);
     return b;
 }
 
-}  // namespace
+namespace {}  // namespace
 
 namespace {
 
@@ -52,7 +50,7 @@ struct Axis {
     double lo = 0, hi = 1, step = 1;
     double plotted(double v) const { return log ? std::log10(v) : v; }
     bool shows(double v) const { return !log || v > 0; }
-    std::string label(double t) const { return log ? "1e" + num(t) : num(t); }
+    std::string label(double t) const { return log ? "1e" + svg_number(t) : svg_number(t); }
 };
 
 // Range of the plotted values (lo > hi when there are none), widened to whole ticks.
@@ -173,10 +171,6 @@ SvgPanel plot_panel(const Plot& plot) {
     return {o.str(), W, H};
 }
 
-void write_svg(const std::string& path, const Plot& plot) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    write_svg_document(path, plot_panel(plot).svg);
-}
+void write_svg(const std::string& path, const Plot& plot) { write_figure(path, plot_panel(plot).svg); }
 
 }  // namespace mrjam

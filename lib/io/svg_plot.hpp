@@ -40,6 +40,9 @@ SvgPanel plot_panel(const Plot& plot);
 // ticks over the span.
 double nice_step(double span, int count);
 
+// A number as the plots label it (printf's %g).
+std::string svg_number(double v);
+
 // Text made safe inside an SVG element: <, > and & as entities.
 std::string svg_escape(const std::string& s);
 

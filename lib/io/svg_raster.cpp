@@ -16,41 +16,38 @@ namespace mrjam {
 namespace {
 
 // librsvg and the cairo it draws with, opened on the first rendering (core/shared_library.hpp);
-// the declarations come from their headers, the functions through dlsym.
+// the declarations come from their headers, the functions through dlsym. GObject and cairo are
+// librsvg's own dependencies, found through its handle. One list names every function once.
+// clang-format off
+#define MRJAM_RASTER_FUNCTIONS(X) \
+    X(rsvg_handle_new_from_data) \
+    X(rsvg_handle_get_intrinsic_size_in_pixels) \
+    X(rsvg_handle_render_document) \
+    X(g_object_unref) \
+    X(cairo_image_surface_create) \
+    X(cairo_surface_flush) \
+    X(cairo_surface_write_to_png) \
+    X(cairo_surface_destroy) \
+    X(cairo_status_to_string) \
+    X(cairo_create) \
+    X(cairo_destroy) \
+    X(cairo_set_source_rgb) \
+    X(cairo_paint)
+// clang-format on
+
 struct Raster {
-    decltype(&::rsvg_handle_new_from_data) new_from_data = nullptr;
-    decltype(&::rsvg_handle_get_intrinsic_size_in_pixels) intrinsic_size = nullptr;
-    decltype(&::rsvg_handle_render_document) render_document = nullptr;
-    decltype(&::g_object_unref) object_unref = nullptr;
-    decltype(&::cairo_image_surface_create) image_surface_create = nullptr;
-    decltype(&::cairo_surface_flush) surface_flush = nullptr;
-    decltype(&::cairo_surface_write_to_png) write_to_png = nullptr;
-    decltype(&::cairo_surface_destroy) surface_destroy = nullptr;
-    decltype(&::cairo_status_to_string) status_to_string = nullptr;
-    decltype(&::cairo_create) create = nullptr;
-    decltype(&::cairo_destroy) destroy = nullptr;
-    decltype(&::cairo_set_source_rgb) set_source_rgb = nullptr;
-    decltype(&::cairo_paint) paint = nullptr;
+#define MRJAM_RASTER_POINTER(name) decltype(&::name) name = nullptr;
+    MRJAM_RASTER_FUNCTIONS(MRJAM_RASTER_POINTER)
+#undef MRJAM_RASTER_POINTER
 };
 
 Raster load() {
     const std::string fix = "install librsvg with bash scripts/install-deps.sh";
     const SharedLibrary rsvg = SharedLibrary::open<std::runtime_error>(MRJAM_RSVG_SONAME, MRJAM_RSVG_PATH, fix);
     Raster r;
-    rsvg.resolve<std::runtime_error>(r.new_from_data, "rsvg_handle_new_from_data", fix);
-    rsvg.resolve<std::runtime_error>(r.intrinsic_size, "rsvg_handle_get_intrinsic_size_in_pixels", fix);
-    rsvg.resolve<std::runtime_error>(r.render_document, "rsvg_handle_render_document", fix);
-    // GObject and cairo are librsvg's own dependencies: found through its handle.
-    rsvg.resolve<std::runtime_error>(r.object_unref, "g_object_unref", fix);
-    rsvg.resolve<std::runtime_error>(r.image_surface_create, "cairo_image_surface_create", fix);
-    rsvg.resolve<std::runtime_error>(r.surface_flush, "cairo_surface_flush", fix);
-    rsvg.resolve<std::runtime_error>(r.write_to_png, "cairo_surface_write_to_png", fix);
-    rsvg.resolve<std::runtime_error>(r.surface_destroy, "cairo_surface_destroy", fix);
-    rsvg.resolve<std::runtime_error>(r.status_to_string, "cairo_status_to_string", fix);
-    rsvg.resolve<std::runtime_error>(r.create, "cairo_create", fix);
-    rsvg.resolve<std::runtime_error>(r.destroy, "cairo_destroy", fix);
-    rsvg.resolve<std::runtime_error>(r.set_source_rgb, "cairo_set_source_rgb", fix);
-    rsvg.resolve<std::runtime_error>(r.paint, "cairo_paint", fix);
+#define MRJAM_RASTER_RESOLVE(name) rsvg.resolve<std::runtime_error>(r.name, #name, fix);
+    MRJAM_RASTER_FUNCTIONS(MRJAM_RASTER_RESOLVE)
+#undef MRJAM_RASTER_RESOLVE
     return r;
 }
 
@@ -60,13 +57,13 @@ const Raster& raster() {
 }
 
 struct HandleFree {
-    void operator()(RsvgHandle* h) const { raster().object_unref(h); }
+    void operator()(RsvgHandle* h) const { raster().g_object_unref(h); }
 };
 struct SurfaceFree {
-    void operator()(cairo_surface_t* s) const { raster().surface_destroy(s); }
+    void operator()(cairo_surface_t* s) const { raster().cairo_surface_destroy(s); }
 };
 struct ContextFree {
-    void operator()(cairo_t* c) const { raster().destroy(c); }
+    void operator()(cairo_t* c) const { raster().cairo_destroy(c); }
 };
 
 // librsvg's GError as an exception naming the file.
@@ -82,22 +79,22 @@ void write_png_from_svg(const std::string& svg, const std::string& png_path, dou
     const Raster& r = raster();
     GError* error = nullptr;
     std::unique_ptr<RsvgHandle, HandleFree> handle(
-        r.new_from_data(reinterpret_cast<const guint8*>(svg.data()), svg.size(), &error));
+        r.rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(svg.data()), svg.size(), &error));
     if (!handle) fail(png_path, "the SVG does not parse", error);
     double width = 0, height = 0;
-    if (!r.intrinsic_size(handle.get(), &width, &height) || width <= 0 || height <= 0)
+    if (!r.rsvg_handle_get_intrinsic_size_in_pixels(handle.get(), &width, &height) || width <= 0 || height <= 0)
         throw std::runtime_error("cannot render " + png_path + ": the SVG has no width and height in pixels");
     const int w = static_cast<int>(std::ceil(width * scale)), h = static_cast<int>(std::ceil(height * scale));
-    std::unique_ptr<cairo_surface_t, SurfaceFree> surface(r.image_surface_create(CAIRO_FORMAT_RGB24, w, h));
-    std::unique_ptr<cairo_t, ContextFree> cr(r.create(surface.get()));
-    r.set_source_rgb(cr.get(), 1, 1, 1);  // white under a transparent SVG
-    r.paint(cr.get());
+    std::unique_ptr<cairo_surface_t, SurfaceFree> surface(r.cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h));
+    std::unique_ptr<cairo_t, ContextFree> cr(r.cairo_create(surface.get()));
+    r.cairo_set_source_rgb(cr.get(), 1, 1, 1);  // white under a transparent SVG
+    r.cairo_paint(cr.get());
     const RsvgRectangle viewport{0, 0, static_cast<double>(w), static_cast<double>(h)};
-    if (!r.render_document(handle.get(), cr.get(), &viewport, &error)) fail(png_path, "librsvg", error);
-    r.surface_flush(surface.get());
-    const cairo_status_t status = r.write_to_png(surface.get(), png_path.c_str());
+    if (!r.rsvg_handle_render_document(handle.get(), cr.get(), &viewport, &error)) fail(png_path, "librsvg", error);
+    r.cairo_surface_flush(surface.get());
+    const cairo_status_t status = r.cairo_surface_write_to_png(surface.get(), png_path.c_str());
     if (status != CAIRO_STATUS_SUCCESS)
-        throw std::runtime_error("cannot write " + png_path + ": " + r.status_to_string(status));
+        throw std::runtime_error("cannot write " + png_path + ": " + r.cairo_status_to_string(status));
 }
 
 std::string png_twin(const std::string& svg_path) {
