@@ -56,6 +56,9 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     fid["engine"] = engine("fidelity");
     fid["stiffness_scale_used"] = spec.stiffness_scale;
     fid["density_scale_used"] = spec.density_scale;
+    if (spec.hold_magnetic_pull) fid["pull_holding"] = describe(spec.pull_holding);
+    fid["heavier_below_diameter_m"] = spec.heavier_below;
+    fid["heavier_grains_stokes_number"] = spec.heavier_stokes_number;
     report["fidelity"] = fid;
     report["timestep"] = engine("timestep");
     report["engine_scene"] = engine("inputs");

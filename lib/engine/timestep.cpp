@@ -27,6 +27,24 @@ double self_gravity_time(const System& s) {
     return 0.1 * std::sqrt(3 * M_PI / (t->settings().constant * rho));
 }
 
+// The grain with the least of some measure, in one pass.
+struct Shortest {
+    static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+    double value = std::numeric_limits<double>::infinity();
+    std::size_t grain = kNone;
+    void offer(double v, std::size_t i) {
+        if (grain == kNone || v < value) value = v, grain = i;
+    }
+};
+
+// Grain i's mass over what its material's density gives its size: 1 unless mass-scaled (exactly
+// 1 then, so a run without scaling keeps its step to the last bit).
+double mass_scale(const Material& mat, const Particles& p, std::size_t i) {
+    const double r = p.radius[i];
+    const double scale = p.mass[i] / (mat.density * 4.0 / 3.0 * M_PI * r * r * r);
+    return std::fabs(scale - 1) < 1e-9 ? 1.0 : scale;
+}
+
 }  // namespace
 
 TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
@@ -35,36 +53,44 @@ TimestepLimits timestep_limits(const System& s, double characteristic_speed) {
     lim.rayleigh = lim.hertz = lim.drag = lim.stokes = lim.pair_damping = inf;
     const Particles& p = s.particles;
     const double viscosity = carrier_viscosity(s), pair_damping = pair_damping_coefficient(s);
-    // The smallest grain of each material sets that material's limits.
-    std::vector<std::size_t> smallest(s.materials.size(), p.size());
+    // The grains of each material that set its limits: the smallest, unless some carry more mass
+    // than their size gives (a batch's mass_scaling). The Rayleigh time, r sqrt(rho / G), and the
+    // Stokes time, m / (6 pi mu r), are shortest for the least m / r; the Hertz time of a pair of
+    // alike grains, ~ (m^2 / r)^(1/5), for the least m^2 / r; the pair damping's for the least m.
+    std::vector<Shortest> rayleigh(s.materials.size()), hertz(s.materials.size()), damping(s.materials.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
-        auto& k = smallest[p.material[i]];
-        if (k == p.size() || p.radius[i] < p.radius[k]) k = i;
+        const double m = p.mass[i], r = p.radius[i];
+        rayleigh[p.material[i]].offer(m / r, i);
+        hertz[p.material[i]].offer(m * m / r, i);
+        damping[p.material[i]].offer(m, i);
     }
     for (std::size_t m = 0; m < s.materials.size(); ++m) {
-        const std::size_t i = smallest[m];
-        if (i == p.size()) continue;
+        if (rayleigh[m].grain == Shortest::kNone) continue;
         const Material& mat = s.materials[m];
-        const double r = p.radius[i];
         if (s.physics.contact) {
-            const double rayleigh =
-                M_PI * r * std::sqrt(mat.density / mat.shear_modulus()) / (0.1631 * mat.poisson_ratio + 0.8766);
-            lim.rayleigh = std::min(lim.rayleigh, rayleigh);
-            // Two smallest grains of this material meeting head on.
+            const std::size_t i = rayleigh[m].grain, h = hertz[m].grain;
+            const double r = p.radius[i];
+            const double density = mat.density * mass_scale(mat, p, i);
+            lim.rayleigh = std::min(lim.rayleigh, M_PI * r * std::sqrt(density / mat.shear_modulus()) /
+                                                      (0.1631 * mat.poisson_ratio + 0.8766));
+            // Two such grains meeting head on.
             const double ystar = s.pairs(static_cast<std::uint16_t>(m), static_cast<std::uint16_t>(m)).effective_youngs;
-            lim.hertz =
-                std::min(lim.hertz, hertz_contact_duration(0.5 * p.mass[i], 0.5 * r, ystar, characteristic_speed));
+            lim.hertz = std::min(
+                lim.hertz, hertz_contact_duration(0.5 * p.mass[h], 0.5 * p.radius[h], ystar, characteristic_speed));
             // Against a wall (R* = R, m* = m): shorter than grain-grain when the wall is stiffer.
             for (const Wall& w : s.walls) {
                 const double ystar_wall = s.pairs(static_cast<std::uint16_t>(m), w.material).effective_youngs;
-                lim.hertz = std::min(lim.hertz, hertz_contact_duration(p.mass[i], r, ystar_wall, characteristic_speed));
+                lim.hertz = std::min(lim.hertz,
+                                     hertz_contact_duration(p.mass[h], p.radius[h], ystar_wall, characteristic_speed));
             }
         }
-        if (viscosity > 0) lim.stokes = std::min(lim.stokes, p.mass[i] / (6.0 * M_PI * viscosity * r));
-        // Pair damping relaxes the relative velocity of two smallest grains in m* / c (m* = m/2).
+        const std::size_t i = rayleigh[m].grain;
+        if (viscosity > 0) lim.stokes = std::min(lim.stokes, p.mass[i] / (6.0 * M_PI * viscosity * p.radius[i]));
+        // Pair damping relaxes the relative velocity of two such grains in m* / c (m* = m/2).
         // Explicit integration is stable up to 2 m* / (z c) with z contacts, so the default
         // safety fraction 0.1 of this time covers up to 20 contacts.
-        if (pair_damping > 0) lim.pair_damping = std::min(lim.pair_damping, 0.5 * p.mass[i] / pair_damping);
+        if (pair_damping > 0)
+            lim.pair_damping = std::min(lim.pair_damping, 0.5 * p.mass[damping[m].grain] / pair_damping);
     }
     lim.drag = std::min(lim.stokes, lim.pair_damping);
     lim.gravity = self_gravity_time(s);

@@ -184,6 +184,21 @@ std::vector<Sphere> place_list(SceneNode& node, SceneNode& place, const System& 
     return spheres;
 }
 
+// Heavier fine grains (mass scaling): every grain of a batch finer than `below_diameter` D
+// carries (D / d)^2 times the mass and moment of inertia its material's density gives it, so its
+// Stokes time m / (6 pi mu R) and its Rayleigh time R sqrt(rho / G) are those of a grain of
+// diameter D. A run whose contacts had to be stiffened (to hold a magnetic pull) keeps its step
+// that way, and fine grains stop setting a step far shorter than the rest need. Valid where the
+// grains' inertia does not matter: a D grain's Stokes number in the flow far below 1 (the
+// caller's to check; docs/scene.md).
+double read_mass_scaling(SceneNode& node) {
+    std::optional<SceneNode> ms = node.optional_object("mass_scaling");
+    if (!ms) return 0;
+    const double below = ms->quantity("below_diameter", units::length, std::nullopt, Bounds::positive());
+    ms->finish();
+    return below;
+}
+
 void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& names, Rng& rng, bool insert) {
     System& s = scene.system;
     const std::uint16_t mat = material_index(node, "material", names, names.front());
@@ -211,6 +226,7 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     const Vec3 spin = node.vector("angular_velocity", units::frequency, Vec3{});
     const Vec3 v0 = node.vector("velocity", units::velocity, Vec3{});
     const double random_speed = node.quantity("random_velocity", units::velocity, 0.0, Bounds::non_negative());
+    const double heavier_below = read_mass_scaling(node);
 
     std::vector<Sphere> spheres = method == "random"      ? place_random(node, place, scene, sizes, rng, insert)
                                   : method == "monolayer" ? place_monolayer(node, place, scene, sizes, rng, insert)
@@ -223,6 +239,11 @@ void read_grains(SceneNode node, Scene& scene, const std::vector<std::string>& n
     for (const Sphere& sp : spheres) {
         const std::size_t i = p.add(sp.centre, sp.radius, material.density, mat);
         p.id[i] = i;
+        if (2 * sp.radius < heavier_below) {
+            const double factor = heavier_below * heavier_below / (4 * sp.radius * sp.radius);
+            p.mass[i] *= factor;
+            p.inertia[i] *= factor;
+        }
         set_magnetic_constants(material, p, i, rng);
         Vec3 v = v0;
         if (random_speed > 0)

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "core/format.hpp"
 #include "geometry/disc_packing.hpp"
 #include "geometry/size_distribution.hpp"
 #include "scene/material_ranges.hpp"
 #include "scene/scene_node.hpp"
+#include "scene/scene_physics.hpp"
 
 namespace mrjam {
 namespace {
@@ -292,10 +294,47 @@ void read_material_and_scaling(SceneNode& root, const nlohmann::json& input, con
             sc.fail("density", "scales the density to " + format_number(density * s.density_scale) +
                                    " kg/m3, past the engine's range (" + density_range().describe() +
                                    "); scale it less");
+        s.hold_magnetic_pull = sc.boolean("hold_magnetic_pull", false);
+        s.heavier_below = sc.quantity("heavier_below", units::length, 0.0, Bounds::non_negative());
         sc.finish();
         s.material["youngs_modulus"] = youngs * s.stiffness_scale;
         s.material["density"] = density * s.density_scale;
     });
+}
+
+// scaling/hold_magnetic_pull: the modulus multiplied until the finest grain's contact holds the
+// pull of the largest pair across it (shear/pull_holding.hpp); then the grains finer than the
+// rule's diameter, or `heavier_below` if coarser, made heavier to keep the step. Needs the sizes,
+// the field, the saturation and the rates.
+void apply_contact_scaling(SceneNode& root, const SizeDistribution& sizes, ShearSpec& s) {
+    nlohmann::json scratch;
+    const Material mat = read_material(SceneNode(s.material, scratch, "/material"));
+    if (s.hold_magnetic_pull) {
+        PullHoldingInput in;
+        in.min_diameter = sizes.min_diameter();
+        in.max_diameter = sizes.max_diameter();
+        // The strongest field the study applies (a field sweep may go past the main one).
+        in.flux_density = s.flux_density;
+        for (double b : s.sweep_fields) in.flux_density = std::max(in.flux_density, b);
+        in.relative_permeability = mat.relative_permeability;
+        in.saturation_magnetisation =
+            s.saturation == "none" ? std::numeric_limits<double>::infinity() : mat.saturation_magnetisation;
+        in.youngs_modulus = mat.youngs_modulus;
+        in.poisson_ratio = mat.poisson_ratio;
+        s.pull_holding = pull_holding(in);
+        const double youngs = mat.youngs_modulus * s.pull_holding.factor;
+        if (!youngs_modulus_range().contains(youngs))
+            root.fail("scaling/hold_magnetic_pull",
+                      "would raise the modulus to " + format_number(youngs) + " Pa, past the engine's range (" +
+                          youngs_modulus_range().describe() + "); the size ratio or the field is too large for it");
+        s.material["youngs_modulus"] = youngs;
+    }
+    s.heavier_below = std::max(s.heavier_below, s.pull_holding.heavier_below);
+    double fastest = s.sweep_fields.empty() ? 0.0 : s.sweep_rate;
+    for (double r : s.rates) fastest = std::max(fastest, r);
+    s.heavier_stokes_number = s.heavier_below > 0 && s.dissipation == "stokes_drag"
+                                  ? stokes_number(s.heavier_below, mat.density, s.viscosity, fastest)
+                                  : 0.0;
 }
 
 // The applied field: its flux density and direction.
@@ -423,6 +462,7 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier_n
     read_optional_block(root, "measure", s.resolved, [&](SceneNode n) { read_measure_block(n, s); });
     read_optional_block(root, "fit", s.resolved, [&](SceneNode n) { read_fit_block(n, s); });
     if (auto sw = root.optional_object("field_sweep")) read_field_sweep(*sw, s);
+    apply_contact_scaling(root, sizes, s);
     read_convergence(root.optional_object("convergence"), s);
     if (auto ex = root.optional_object("experiment")) read_experiment(*ex, s);
     read_optional_block(root, "output", s.resolved, [&](SceneNode n) { read_shear_output(n, s); });
@@ -448,6 +488,7 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
         {"run", s.run},
         {"output", engine_output_json(s.output)}};
     scene["run"]["steps"] = 0;
+    if (s.heavier_below > 0) scene["grains"][0]["mass_scaling"] = {{"below_diameter", s.heavier_below}};
     if (s.monolayer) {
         // Centres in the mid-plane y = Y/2, no y images, no y walls: the integrator holds them there.
         scene["domain"]["periodic"] = "x";

@@ -8,6 +8,7 @@
 
 #include "core/vec3.hpp"
 #include "scene/output_block.hpp"
+#include "shear/pull_holding.hpp"
 #include "shear/shear_tiers.hpp"
 
 namespace mrjam {
@@ -38,7 +39,14 @@ struct ShearSpec {
     nlohmann::json magnetic;              // engine "magnetic" block without the field
     std::string saturation = "material";  // or "none" (linear induced moments, as the source)
     double stiffness_scale = 1, density_scale = 1;
-    nlohmann::json run;  // engine "run" block (timestep settings)
+    // scaling/hold_magnetic_pull: the modulus raised until the finest grain's contact holds the
+    // largest pair's pull (shear/pull_holding.hpp). Grains finer than `heavier_below` (the rule's
+    // diameter or scaling/heavier_below, the larger) get that diameter's Stokes time.
+    bool hold_magnetic_pull = false;
+    PullHolding pull_holding;          // factor 1 unless asked for and needed
+    double heavier_below = 0;          // m; 0: no mass scaling
+    double heavier_stokes_number = 0;  // of a heavier_below grain at the fastest rate
+    nlohmann::json run;                // engine "run" block (timestep settings)
 
     // Magnetisation: run until chains settle (see settled() in shear_cell.cpp).
     double magnetise_check_every = 0;             // s between checks
