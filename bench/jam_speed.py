@@ -2,7 +2,8 @@
 """Wall time and grain-steps per second of the bundled valve cases, two builds side by side.
 
     python3 bench/jam_speed.py BEFORE_MRJAM AFTER_MRJAM [--tiers quick,standard] [--cases mix2_20x,mix2_40x]
-                               [--threads N] [--max-time "1.2 ms"] [--out out/jam_speed]
+                               [--threads N] [--max-time "1.2 ms"] [--after-model KEY=VALUE ...]
+                               [--out out/jam_speed]
 
 Each case (examples/table32/<case>.json, the experiment's closed-first protocol in the curved
 brackets' applied field) runs at each tier with each build in turn, one run at a time, with
@@ -10,6 +11,8 @@ brackets' applied field) runs at each tier with each build in turn, one run at a
 that both see the same machine.
 `--max-time` cuts the protocol's pressure period (protocol/max_time) for a quicker comparison of
 speed alone; without it the runs are the real answers and their outcomes are compared too.
+`--after-model KEY=VALUE` sets a key of the scene's model block in the AFTER runs only (a speed
+setting against none, with one build given twice), e.g. --after-model heavier_below="44 um".
 Prints one row per run: tier, case, build, outcome, grains through the throat in all, wall time,
 CPU time, grain-steps per second (the report's own count over its wall time); then the speed-up.
 """
@@ -24,7 +27,7 @@ import time
 HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def scene_for(case, out_dir, max_time):
+def scene_for(case, out_dir, max_time, model):
     path = os.path.join(HERE, "examples", "table32", case + ".json")
     scene = json.load(open(path))
     field = scene.get("field", {})
@@ -33,13 +36,14 @@ def scene_for(case, out_dir, max_time):
     scene.setdefault("output", {})["directory"] = os.path.join(out_dir, "out")
     if max_time:
         scene["protocol"]["max_time"] = max_time
+    scene.setdefault("model", {}).update(model)
     return scene
 
 
-def run_one(mrjam, case, tier, threads, out_dir, max_time):
+def run_one(mrjam, case, tier, threads, out_dir, max_time, model):
     os.makedirs(out_dir, exist_ok=True)
     scene_path = os.path.join(out_dir, "scene.json")
-    json.dump(scene_for(case, out_dir, max_time), open(scene_path, "w"), indent=1)
+    json.dump(scene_for(case, out_dir, max_time, model), open(scene_path, "w"), indent=1)
     report_path = os.path.join(out_dir, "report.json")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.time()
@@ -72,8 +76,19 @@ def main():
     ap.add_argument("--cases", default="mix2_20x,mix2_40x")
     ap.add_argument("--threads", type=int, default=0, help="0: each build's own default")
     ap.add_argument("--max-time", default="")
+    ap.add_argument("--after-model", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="model-block keys for the AFTER runs (VALUE as JSON, else a string)")
     ap.add_argument("--out", default="out/jam_speed")
     a = ap.parse_args()
+    after_model = {}
+    for item in a.after_model:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            sys.exit("--after-model: expected KEY=VALUE, got %r" % item)
+        try:
+            after_model[key] = json.loads(value)
+        except ValueError:
+            after_model[key] = value
     builds = {"before": os.path.realpath(a.before), "after": os.path.realpath(a.after)}
     for name, path in builds.items():
         if not os.access(path, os.X_OK):
@@ -85,7 +100,8 @@ def main():
         for case in a.cases.split(","):
             for name in ("before", "after"):
                 out_dir = os.path.abspath(os.path.join(a.out, tier, case, name))
-                r = run_one(builds[name], case, tier, a.threads, out_dir, a.max_time)
+                model = after_model if name == "after" else {}
+                r = run_one(builds[name], case, tier, a.threads, out_dir, a.max_time, model)
                 r.update(tier=tier, case=case, build=name)
                 rows.append(r)
                 gs = r.get("grain_steps_per_s")

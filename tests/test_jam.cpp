@@ -448,6 +448,7 @@ TEST_SUITE("cli") {
         refused("slab_faces", {{"model", {{"slab_faces", "smooth"}}}}, "/model/slab_faces");
         refused("no_evaluation", {{"model", {{"magnetic_update_interval", 0}}}}, "/model/magnetic_update_interval");
         refused("no_skin", {{"model", {{"neighbour_skin", 0}}}}, "/model/neighbour_skin");
+        refused("heavier_below", {{"model", {{"heavier_below", "-1 um"}}}}, "/model/heavier_below");
         refused("no_lookup", {{"model", {{"flow_lookup_interval", 0}}}}, "/model/flow_lookup_interval");
         refused("close_pairs", {{"model", {{"close_pairs_min_gap", 0}}}}, "/model/close_pairs_min_gap");
         refused("steady_window", {{"protocol", {{"max_time", "3 ms"}, {"steady_window", "2 ms"}}}},
@@ -567,7 +568,8 @@ TEST_SUITE("cli") {
                              {{"flow_time", "0.02 ms"},
                               {"max_time", "0.02 ms"},
                               {"arrest_window", "0.01 ms"},
-                              {"release_time", "0.01 ms"}}},
+                              {"release_time", "0.01 ms"},
+                              {"observe_every_steps", 20}}},  // 4 looks a window at the quick tier's step
                             {"output", {{"directory", dir.file("out")}}}};
         const Result r = run_mode(dir, "jam", "still", with_field(scene), "--fidelity quick");
         CAPTURE(r.err);
@@ -848,6 +850,43 @@ TEST_SUITE("cli") {
         CHECK(s.pairs(0, wall(s, "valve").material).friction == rel(0.4));
         const Scene rough = built("frictional");
         CHECK(rough.system.pairs(0, wall(rough.system, "slab_low").material).friction == rel(0.4));
+    }
+
+    TEST_CASE("jam scene: model/heavier_below gives finer grains its Stokes and Rayleigh times, the quick tier all") {
+        auto built = [](const json& model) {
+            const json scene = {{"valve", {{"constriction", "30x"}}}, {"model", model}};
+            BuildOptions build;
+            build.fidelity = "quick";
+            Scene s = build_scene(read_jam_scene(with_field(scene), "quick", ".").engine_scene, build);
+            choose_timestep(s);
+            return s;
+        };
+        const Scene plain = built({{"heavier_below", "0 um"}});
+        const Scene heavy = built({{"heavier_below", "44 um"}});
+        // The quick tier's default: every grain the largest one's Stokes time.
+        const Scene tier_default = built(json::object());
+        CHECK(tier_default.system.dt == heavy.system.dt);
+        const json quick_model = {{"valve", {{"constriction", "30x"}}}};
+        CHECK(read_jam_scene(with_field(quick_model), "quick", ".").resolved["model"]["heavier_below"].get<double>() ==
+              rel(44e-6));
+        CHECK(read_jam_scene(with_field(quick_model), "standard", ".").resolved["model"]["heavier_below"] == 0.0);
+        const Particles& p = heavy.system.particles;
+        REQUIRE(p.size() == plain.system.particles.size());
+        const double density = heavy.system.materials[0].density;
+        int scaled = 0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const double d = 2 * p.radius[i], natural = density * M_PI / 6 * d * d * d;
+            const double expected = d < 44e-6 ? 44e-6 * 44e-6 / (d * d) : 1.0;
+            CHECK(p.mass[i] / natural == rel(expected).epsilon(1e-9));
+            scaled += d < 44e-6;
+        }
+        CHECK(scaled > 0);
+        CHECK(scaled < static_cast<int>(p.size()));  // the 44 um class keeps its mass
+        // Rayleigh-limited in both: every grain now has a 44 um grain's R sqrt(rho / G), where the
+        // 23.6 um class set it before.
+        REQUIRE(plain.limits.limiting == "Rayleigh time of the smallest grain");
+        REQUIRE(heavy.limits.limiting == plain.limits.limiting);
+        CHECK(heavy.system.dt / plain.system.dt == rel(44.0 / 23.6).epsilon(1e-9));
     }
 
     TEST_CASE(

@@ -113,6 +113,7 @@ json jam_engine_scene(const JamScene& js, const JamEngineInputs& in) {
              {"size", size},
              {"placement",
               {{"method", "random"}, {"volume_fraction", js.feed_fraction}, {"region", region(z0, z1, radius)}}}});
+        if (in.heavier_below > 0) batches.back()["mass_scaling"] = {{"below_diameter", in.heavier_below}};
     }
     // The flow scales with the supply pressure through the linear circuit, so a raised hold
     // pressure speeds up what the contacts may see.

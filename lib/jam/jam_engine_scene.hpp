@@ -26,6 +26,7 @@ struct JamEngineInputs {
     long long flow_lookup_interval = 1;      // steps between carrier-flow lookups at the grains
     double neighbour_skin = 0;               // Verlet skin, of the mean diameter (0: the engine's)
     bool frictionless_slab = true;           // model/slab_faces
+    double heavier_below = 0;                // model/heavier_below, m: finer grains get its Stokes time (0: off)
     OutputBlock output;                      // the scene's output block, passed to the engine
 };
 

@@ -47,6 +47,7 @@ struct TierSettings {
     double upstream, downstream;
     long long magnetic_interval;     // steps between magnetic evaluations
     long long flow_lookup_interval;  // steps between carrier-flow lookups at the grains
+    bool heavier_below_largest;      // model/heavier_below defaults to the largest diameter
 };
 // The quick and standard tiers hold the magnetic forces 4 steps: 1.5 times faster on the 44 um
 // cases at the quick tier with the same outcomes over three seeds each (docs/notes/jam_measurements.md,
@@ -56,7 +57,9 @@ struct TierSettings {
 // 10 um mix, the same outcomes on the 44 um cases over three seeds
 // (docs/notes/jam_measurements.md, "Held carrier-flow lookups"). The paper tier evaluates every step.
 const PerTier<TierSettings> kTable = {
-    {3.0, 1.0e-3, 0.5e-3, 4, 4}, {6.0, 1.5e-3, 0.75e-3, 4, 4}, {0.0, 2.0e-3, 1.0e-3, 1, 1},  // paper: the full bore
+    {3.0, 1.0e-3, 0.5e-3, 4, 4, true},
+    {6.0, 1.5e-3, 0.75e-3, 4, 4, false},
+    {0.0, 2.0e-3, 1.0e-3, 1, 1, false},  // paper: the full bore
 };
 // The continuum tier has no grains; its scene is read with the standard tier's model sizes.
 const TierSettings& tier_settings(const std::string& tier) {
@@ -192,6 +195,14 @@ ModelBlock read_model_block(SceneNode model, const json& scene, const TierSettin
     // frictionless is the default.
     engine.frictionless_slab =
         model.choice("slab_faces", {"frictionless", "frictional"}, "frictionless") == "frictionless";
+    // Mass scaling: grains finer than this get its Stokes and Rayleigh times (their mass x
+    // (D / d)^2; a grain batch's mass_scaling, docs/scene.md), so the finest grains stop setting
+    // the step. The quick tier gives every grain the largest one's (-1 here: set once the size
+    // table is read): its step 1.9 times longer on the 44 um table with the same outcomes over
+    // seeds (docs/notes/jam_speed.md, "Heavier fine grains"); the other tiers leave masses as they are.
+    engine.heavier_below = model.has("heavier_below") || !ts.heavier_below_largest
+                               ? model.quantity("heavier_below", units::length, 0.0, Bounds::non_negative())
+                               : -1.0;
     // How the grains are fed. `periodic`: grains leaving downstream re-enter upstream, a steady
     // feed. `batch`: the grains filled at the start are all there is; those leaving downstream
     // are taken out and none come in, as in a DEM run whose grains were "initialized ... inside
@@ -572,6 +583,9 @@ JamScene read_jam_scene(const json& user, const std::string& tier, const std::st
     const MassTable table = read_grains_block(root.object("grains"), model, out);
     engine.diameters = table.diameters;
     engine.mass = table.mass;
+    if (engine.heavier_below < 0)
+        out.resolved["model"]["heavier_below"] = engine.heavier_below =
+            *std::max_element(table.diameters.begin(), table.diameters.end());
     engine.material = read_material_block(root.object("material"), out);
     read_fluid_block(root.object("fluid"), root, model, table, out, engine);
     engine.field = read_field_block(root.object("field"), base_directory, out);
