@@ -307,6 +307,7 @@ void read_material_and_scaling(SceneNode& root, const nlohmann::json& input, con
 // rule's diameter, or `heavier_below` if coarser, made heavier to keep the step. Needs the sizes,
 // the field, the saturation and the rates.
 void apply_contact_scaling(SceneNode& root, const SizeDistribution& sizes, ShearSpec& s) {
+    if (!s.hold_magnetic_pull && s.heavier_below == 0) return;  // the material as given, read by the engine
     nlohmann::json scratch;
     const Material mat = read_material(SceneNode(s.material, scratch, "/material"));
     if (s.hold_magnetic_pull) {
