@@ -150,6 +150,22 @@ TEST_SUITE("unit") {
         CHECK(b.system.dt > 3 * a.system.dt);
     }
 
+    TEST_CASE("shear scene: a pull no modulus in the engine's range can hold is refused at hold_magnetic_pull") {
+        json s = bimodal_scene();
+        s["size"]["diameters"] = {"0.05 um", "10 um"};
+        s["material"]["youngs_modulus"] = "9e12 Pa";
+        s["field"]["flux_density"] = "5 T";
+        s["magnetic"] = {{"saturation", "none"}};  // linear moments: the pull grows as B^2
+        s["scaling"] = {{"hold_magnetic_pull", true}};
+        try {
+            (void)read_shear_spec(s, "quick");
+            FAIL("a modulus past 1e13 Pa was accepted");
+        } catch (const SceneError& e) {
+            CHECK(e.path() == "/scaling/hold_magnetic_pull");
+            CHECK(std::string(e.what()).find("past the engine's range") != std::string::npos);
+        }
+    }
+
     TEST_CASE("grain batch: mass_scaling is checked by path") {
         auto refused = [](const json& mass_scaling) {
             json engine = engine_scene(read_shear_spec(bimodal_scene(), "quick"), 0.6);
