@@ -365,6 +365,44 @@ TEST_SUITE("unit") {
         check_filtered_matches_grid(c, "closed box");
     }
 
+    // A range beyond contact capped at a multiple of R_i + R_j (a magnetic cutoff of "diameters" with
+    // "beyond_contact"): fine pairs reach the cap, coarse ones the length beyond contact; the list
+    // holds exactly the brute-force pairs at that range, fewer than without the cap, and the
+    // contacts filtered from it are the grid build's.
+    TEST_CASE("neighbour list: a range beyond contact capped in pair diameters") {
+        Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 85);
+        const NeighborList::Settings capped_settings{s.skin, 1.0, false, 3e-6, 2.0};
+        NeighborList capped(capped_settings);
+        // 1 um grains: 2 x (R_i + R_j) = 2 um, under 1 um + 3 um; 30 um grains: 30 + 3 um, under 60 um.
+        CHECK(capped.interaction_range(0.5e-6, 0.5e-6) == doctest::Approx(2e-6).epsilon(1e-12));
+        CHECK(capped.interaction_range(15e-6, 15e-6) == doctest::Approx(33e-6).epsilon(1e-12));
+        CHECK(capped.interaction_range(0.5e-6, 15e-6) == doctest::Approx(18.5e-6).epsilon(1e-12));
+        capped.build(s.particles, s.domain, 1);
+        const Mismatch m = compare_with_brute_force(capped, s.particles, s.domain);
+        CHECK(m.required > 100);
+        CHECK(m.missing == 0);
+        CHECK(m.extra == 0);
+        CHECK(m.wrong_image == 0);
+        NeighborList uncapped(NeighborList::Settings{s.skin, 1.0, false, 3e-6});
+        uncapped.build(s.particles, s.domain, 1);
+        MESSAGE("capped at 2 pair diameters: " << capped.pair_count()
+                                               << " pairs; 3 um beyond contact alone: " << uncapped.pair_count());
+        // The cap shortens every pair whose R_i + R_j is under 3 um, most of them: the fine classes
+        // hold 90 % of the grains (2,376 pairs against 4,038 when written).
+        CHECK(capped.pair_count() < 0.8 * uncapped.pair_count());
+        NeighborList contacts(NeighborList::Settings{s.skin, 1.0, true});
+        REQUIRE(contacts.fits_within(capped));
+        contacts.build_within(capped, s.particles, s.domain, 1);
+        NeighborList grid(NeighborList::Settings{s.skin, 1.0, true});
+        grid.build(s.particles, s.domain, 1);
+        CHECK(contacts.pair_count() == grid.pair_count());
+        CHECK(compare_with_brute_force(contacts, s.particles, s.domain).missing == 0);
+        // A cap below contact cannot hold the contacts; nor can a capped list hold an uncapped one.
+        CHECK_FALSE(contacts.fits_within(NeighborList(NeighborList::Settings{s.skin, 1.0, false, 3e-6, 0.9})));
+        CHECK_FALSE(uncapped.fits_within(capped));
+        CHECK(capped.fits_within(uncapped));
+    }
+
     TEST_CASE("neighbour list: filtering from a list that cannot hold every pair is refused") {
         Packed s = pack(ratio_30_table(), {true, true, true}, 70e-6, 0.35, 84);
         NeighborList target(NeighborList::Settings{s.skin, 1.0, true});

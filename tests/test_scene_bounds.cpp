@@ -55,6 +55,27 @@ TEST_SUITE("unit") {
         CHECK(e.bytes < 0.1 * physical_memory_bytes());
     }
 
+    TEST_CASE("magnetic cutoff: diameters with beyond_contact give the shorter range; other pairs are refused") {
+        json s = box_scene(0.2e-3, 10e-6, 0.2);
+        s["magnetic"] = {{"field", {{"type", "uniform"}, {"flux_density", {0, 0, 0.1}}}},
+                         {"cutoff", {{"diameters", 2}, {"beyond_contact", "8 um"}}}};
+        Scene both = build_scene(s, BuildOptions{});
+        choose_timestep(both);  // sets up the pair lists
+        const NeighborList::Settings& st = both.system.magnetic.pairs.settings();
+        CHECK(st.cutoff_scale == 1.0);
+        CHECK(st.cutoff_extra == doctest::Approx(8e-6).epsilon(1e-12));
+        CHECK(st.cutoff_max_scale == 2.0);
+        // 10 um grains: min(2 x 10, 10 + 8) um = 18 um; 2 um grains: min(4, 10) um = 4 um.
+        CHECK(both.system.magnetic.pairs.interaction_range(5e-6, 5e-6) == doctest::Approx(18e-6).epsilon(1e-12));
+        CHECK(both.system.magnetic.pairs.interaction_range(1e-6, 1e-6) == doctest::Approx(4e-6).epsilon(1e-12));
+        s["magnetic"]["cutoff"] = {{"diameters", 2}, {"length", "30 um"}};
+        CHECK(refusal(s) == "/magnetic/cutoff/diameters");
+        s["magnetic"]["cutoff"] = {{"beyond_contact", "8 um"}, {"length", "30 um"}};
+        CHECK(refusal(s) == "/magnetic/cutoff/diameters");
+        s["magnetic"]["cutoff"] = {{"diameters", 0.5}, {"beyond_contact", "8 um"}};
+        CHECK(refusal(s) == "/magnetic/cutoff/diameters");
+    }
+
     TEST_CASE("plausibility: a starting speed that crosses half a radius in a step is refused at its batch") {
         json s = box_scene(5e-3, 0.5e-3, 0.05);
         s["grains"][0]["placement"]["region"] = {{"shape", "box"}, {"lo", {0, 0, 0}}, {"hi", {5e-3, 5e-3, 2e-3}}};

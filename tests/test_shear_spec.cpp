@@ -56,6 +56,43 @@ TEST_SUITE("unit") {
         CHECK(spec.largest_diameter == rel(10e-6));
     }
 
+    TEST_CASE("shear scene: mixture shares must sum to 1 or to 100; 0.33 and 0.67 is the same fluid as 33 and 67") {
+        json s = base_scene();
+        const json small = {{"distribution", "single"}, {"diameter", "1 um"}};
+        const json large = {{"distribution", "single"}, {"diameter", "6 um"}};
+        auto with_shares = [&](double a, double b) {
+            s["size"] = {{"distribution", "mixture"},
+                         {"parts", {{{"share", a}, {"size", small}}, {{"share", b}, {"size", large}}}}};
+            return s;
+        };
+        const ShearSpec per_cent = read_shear_spec(with_shares(33, 67), "quick");
+        const ShearSpec fractions = read_shear_spec(with_shares(0.33, 0.67), "quick");
+        const auto f100 = per_cent.size_table["frequencies"].get<std::vector<double>>();
+        const auto f1 = fractions.size_table["frequencies"].get<std::vector<double>>();
+        REQUIRE(f100.size() == 2);
+        REQUIRE(f1.size() == 2);
+        for (std::size_t k = 0; k < 2; ++k) CHECK(f1[k] == rel(f100[k]).epsilon(1e-12));  // rounding only
+        for (const auto& [a, b] : {std::pair{30.0, 67.0}, std::pair{0.3, 0.6}, std::pair{1.0, 2.0}}) {
+            CAPTURE(a);
+            CHECK_THROWS_WITH_AS(read_shear_spec(with_shares(a, b), "quick"), doctest::Contains("/size/parts"),
+                                 SceneError);
+        }
+    }
+
+    TEST_CASE(
+        "shear scene: a cell whose periodic sides do not exceed two of the largest grains is refused at /cell/size") {
+        json s = base_scene();
+        s["size"] = {{"distribution", "single"}, {"diameter", "20 um"}};
+        s["cell"] = {{"size", {"41 um", "41 um", "90 um"}}};
+        CHECK_NOTHROW(read_shear_spec(s, "quick"));
+        s["cell"]["size"] = {"39 um", "90 um", "90 um"};
+        CHECK_THROWS_WITH_AS(read_shear_spec(s, "quick"), doctest::Contains("/cell/size"), SceneError);
+        s["cell"]["size"] = {"90 um", "40 um", "90 um"};
+        CHECK_THROWS_WITH_AS(read_shear_spec(s, "quick"), doctest::Contains("/cell/size"), SceneError);
+        s["cell"] = {{"size", {"90 um", "90 um", "40 um"}}, {"boundaries", "lees_edwards"}};
+        CHECK_THROWS_WITH_AS(read_shear_spec(s, "quick"), doctest::Contains("/cell/size"), SceneError);
+    }
+
     // Found by fuzzing (scripts/fuzz.sh): a part whose diameter's cube overflows left the merged
     // table with no class, and the sampler's cumulative table was read past its end.
     TEST_CASE("shear scene: a mixture whose classes all weigh nothing is refused by path") {

@@ -598,7 +598,8 @@ void choose_timestep(Scene& scene) {
 
     if (s.magnetic.enabled) {
         const MagneticSettings& ms = s.magnetic.settings;
-        s.magnetic.pairs = NeighborList(NeighborList::Settings{skin, ms.cutoff_scale, false, ms.cutoff_extra});
+        s.magnetic.pairs =
+            NeighborList(NeighborList::Settings{skin, ms.cutoff_scale, false, ms.cutoff_extra, ms.cutoff_max_scale});
         if (s.magnetic.pairs.interaction_range(r_max, r_max) < 2 * r_max)
             throw SceneError("/magnetic/cutoff", "the magnetic range (" +
                                                      format_number(s.magnetic.pairs.interaction_range(r_max, r_max)) +

@@ -456,6 +456,25 @@ private:
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
+        if (settled > n - up.samples && options_.progress) warn_unsettled(k, settle_strain, strain);
+    }
+
+    // A rate whose stress was still settling inside the averaged window: its mean holds part of
+    // the transient. The window is the last `window` share of the rate's strain, so the strain
+    // that keeps it steady is the settling strain over (1 - window).
+    void warn_unsettled(std::size_t k, double settle_strain, double strain) const {
+        const bool by_steps = spec_.steps_first > 0;
+        const char* key = k == 0 ? (by_steps ? "/ladder/steps_first" : "/ladder/strain_first")
+                                 : (by_steps ? "/ladder/steps_per_rate" : "/ladder/strain_per_rate");
+        std::fprintf(stderr,
+                     "[%s] warning: rate %zu: the stress settles %.3g strain into the rate, inside the averaged "
+                     "window (the last %.0f %% of %.3g); its mean holds part of the transient: ",
+                     options_.label.c_str(), k + 1, settle_strain, 100 * spec_.window_fraction, strain);
+        if (spec_.window_fraction < 1)
+            std::fprintf(stderr, "raise %s to give at least %.3g strain\n", key,
+                         settle_strain / (1 - spec_.window_fraction));
+        else
+            std::fprintf(stderr, "set /measure/window below 1 so the transient is left out\n");
     }
 
     static int wall_index(const System& s, const std::string& name) {

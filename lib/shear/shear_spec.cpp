@@ -59,12 +59,21 @@ SizeDistribution read_sizes(SceneNode node, nlohmann::json& engine) {
     std::vector<std::pair<SizeDistribution, double>> parts;
     auto items = node.objects("parts", true);
     if (items.empty()) node.fail("parts", "a mixture needs at least one part {\"share\": ..., \"size\": {...}}");
+    double share_sum = 0;
     for (auto& item : items) {
         const double share = item.number("share", std::nullopt, Bounds::non_negative());
+        share_sum += share;
         nlohmann::json unused;
         parts.emplace_back(read_part(item.object("size"), unused), share);
         item.finish();
     }
+    // Shares as fractions or as per cent: a sum that is neither is a typing slip (30 and 67) that
+    // a silent normalisation would turn into a different fluid.
+    const bool fractions = std::fabs(share_sum - 1.0) <= 1e-3, percent = std::fabs(share_sum - 100.0) <= 0.1;
+    if (share_sum > 0 && !fractions && !percent)
+        node.fail("parts", "the shares sum to " + format_number(share_sum) +
+                               "; give fractions of the solid volume that sum to 1 or per cent that sum to 100 "
+                               "(Trendler's 33:67 fluid is 33 and 67)");
     node.finish();
     SizeDistribution mix = SizeDistribution::single(1);
     try {
@@ -115,7 +124,18 @@ void read_cell_block(SceneNode cell, const ShearTier& tier, ShearSpec& s) {
         cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
                               fmt_um(s.largest_diameter) +
                               "); it is the thickness the stress is divided by, usually the largest diameter");
+    // The periodic sides (x, and y in 3D) must exceed two of the largest grains the size block
+    // can draw, or a grain would meet its own image; refused here, by the key that fixes it,
+    // rather than by the packing that would fail on it.
+    for (int k = 0; k < (s.monolayer ? 1 : 2); ++k)
+        if (s.cell[k] <= 2 * s.largest_diameter)
+            cell.fail("size", std::string("the periodic side ") + char('x' + k) + " (" + fmt_um(s.cell[k]) +
+                                  ") must exceed two of the largest grains (" + fmt_um(2 * s.largest_diameter) +
+                                  "); make the cell larger (the tiers use 90-125 um for Trendler's powders)");
     s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
+    if (s.lees_edwards && s.cell.z <= 2 * s.largest_diameter)
+        cell.fail("size", "a Lees-Edwards cell is periodic in z too: its height (" + fmt_um(s.cell.z) +
+                              ") must exceed two of the largest grains (" + fmt_um(2 * s.largest_diameter) + ")");
     if (s.lees_edwards) {
         if (cell.has("raft_thickness"))
             cell.fail("raft_thickness",

@@ -55,8 +55,9 @@ struct MagneticSettings {
     // The mutual update's under-relaxation omega (0, 1]: the induced moments move this share of
     // the way to their Jacobi target per update (magnetic_model.cpp says why 2/3).
     double relaxation = 2.0 / 3.0;
-    double cutoff_scale = 0;  // range = scale (R_i + R_j) + extra
+    double cutoff_scale = 0;  // range = scale (R_i + R_j) + extra, at most max_scale (R_i + R_j)
     double cutoff_extra = 0;
+    double cutoff_max_scale = 0;  // 0: no cap
     // The two-body correction for close pairs (off: point dipoles only, as the source).
     ClosePairSettings close_pairs;
 };

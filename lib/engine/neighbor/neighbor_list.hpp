@@ -17,9 +17,11 @@
 // stored image code stays valid; pairs through the z boundary are found at build time with the
 // offset applied before the x minimum image. Their separation drifts by the offset's change, so
 // the rebuild criterion is 2 max|dx| + |d offset| > skin (rebuild_displacement_sq(offset)).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <iosfwd>
+#include <limits>
 #include <vector>
 
 #include "contact/hertz_mindlin.hpp"
@@ -35,6 +37,10 @@ public:
         double cutoff_scale = 1;  // multiple of R_i + R_j
         bool keep_history = true;
         double cutoff_extra = 0;  // m added to the interaction range (e.g. a magnetic range beyond contact)
+        // > 0: the range is at most this multiple of R_i + R_j. With cutoff_extra it gives fine
+        // grains a range in their own diameters while coarse pairs keep a range beyond contact
+        // (a polydisperse fluid whose fine grains would otherwise each list hundreds of partners).
+        double cutoff_max_scale = 0;
     };
 
     NeighborList() = default;
@@ -43,7 +49,8 @@ public:
     const Settings& settings() const { return settings_; }
     // Range within which a pair interacts, and the list cutoff (that range plus the skin).
     double interaction_range(double ri, double rj) const {
-        return settings_.cutoff_scale * (ri + rj) + settings_.cutoff_extra;
+        const double range = settings_.cutoff_scale * (ri + rj) + settings_.cutoff_extra;
+        return settings_.cutoff_max_scale > 0 ? std::min(range, settings_.cutoff_max_scale * (ri + rj)) : range;
     }
     double pair_cutoff(double ri, double rj) const { return interaction_range(ri, rj) + settings_.skin; }
 
@@ -58,11 +65,19 @@ public:
     // a grid build. Pairs come in the wider list's order, which may differ from build()'s.
     void build_within(const NeighborList& wider, Particles& p, const Domain& domain, int threads);
     // True when every pair this list can hold is in `wider`: the same skin and a reach at least as
-    // long for every pair of radii.
+    // long for every pair of radii (each term of the wider range at least this one's, or, for a
+    // range proportional to R_i + R_j like the contacts', the wider range's slopes no smaller).
     bool fits_within(const NeighborList& wider) const {
         const Settings& w = wider.settings_;
-        return w.skin == settings_.skin && w.cutoff_scale >= settings_.cutoff_scale &&
-               w.cutoff_extra >= settings_.cutoff_extra;
+        const Settings& m = settings_;
+        if (w.skin != m.skin) return false;
+        const double inf = std::numeric_limits<double>::infinity();
+        const double w_cap = w.cutoff_max_scale > 0 ? w.cutoff_max_scale : inf;
+        const double m_cap = m.cutoff_max_scale > 0 ? m.cutoff_max_scale : inf;
+        const bool termwise = w.cutoff_scale >= m.cutoff_scale && w.cutoff_extra >= m.cutoff_extra && w_cap >= m_cap;
+        const bool proportional =
+            m.cutoff_extra == 0 && std::min(w.cutoff_scale, w_cap) >= std::min(m.cutoff_scale, m_cap);
+        return termwise || proportional;
     }
 
     bool needs_rebuild(const Particles& p, const Domain& domain, int threads) const;
