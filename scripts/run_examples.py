@@ -35,7 +35,7 @@ ASTEROID_KINDS = ("avalanche", "coalesce", "spinup", "scaling")
 # The order a pass runs in, cheapest first (so an interrupted pass has checked the most
 # examples): the first pattern an example matches gives its rank. The quick-tier costs on one
 # core are from docs (seconds for the continuum tier and a 2D field, minutes for a 44 um valve
-# or the 00:100 shear study, 40 minutes for the 33:67 one, about an hour for a 10 um valve or an
+# or the 00:100 shear study, 20-30 minutes for the 33:67 one, about an hour for a 10 um valve or an
 # asteroid cloud).
 COST_ORDER = ("epm_*", "asteroid/scaling*", "table32/*", "sweeps/*", "settle_column.json", "chains_600mT.json",
               "couette_rafts.json", "shear_trendler_00-100.json", "calibration/*", "valve_mix2_*", "design_quick.json",

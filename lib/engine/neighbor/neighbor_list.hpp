@@ -39,7 +39,7 @@ public:
         double cutoff_extra = 0;  // m added to the interaction range (e.g. a magnetic range beyond contact)
         // > 0: the range is at most this multiple of R_i + R_j. With cutoff_extra it gives fine
         // grains a range in their own diameters while coarse pairs keep a range beyond contact
-        // (a polydisperse fluid whose fine grains would otherwise each list hundreds of partners).
+        // (Trendler's 33:67 fluid, whose fine grains would otherwise each list about 50 partners).
         double cutoff_max_scale = 0;
     };
 
