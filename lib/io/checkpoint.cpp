@@ -19,8 +19,8 @@ namespace {
 
 // "MRJAMCK9" (3: the Lees-Edwards state; 4: magnetic pass counts; 5: held magnetic forces;
 // 6: held carrier-flow lookups; 7: a checksum; 8: each force term's state under its name, in
-// the list's order; 9: a neighbour list's range cap). Older files are refused by name: their term state was laid out by
-// the checkpoint code itself, which no longer knows any term's state.
+// the list's order; 9: a neighbour list's range cap). Older files are refused by name: their
+// term state was laid out by the checkpoint code itself, which no longer knows any term's state.
 constexpr std::uint64_t kMagic = 0x394b434d414a524dull;
 constexpr std::uint64_t kMagicPrefix = 0x004b434d414a524dull;  // "MRJAMCK" and any version byte
 constexpr int kVersion = 9;

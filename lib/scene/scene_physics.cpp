@@ -236,23 +236,20 @@ void read_magnetic(SceneNode node, System& s, const BuildOptions& options, const
     mag.hold.interval = static_cast<int>(node.integer("update_interval", 1, 1, 100));
     if (auto close = node.optional_object("close_pairs")) read_close_pairs(*close, st.close_pairs);
     if (auto cut = node.optional_object("cutoff")) {
-        // "diameters" and "beyond_contact" together: the shorter of the two ranges, so fine grains
-        // reach a few of their own diameters and coarse ones a length beyond contact.
-        const bool both = cut->has("diameters") && cut->has("beyond_contact") && !cut->has("length");
+        // "diameters" with "beyond_contact": the shorter of the two ranges, so fine grains reach a
+        // few of their own diameters and coarse ones a length beyond contact.
+        const bool capped = cut->has("diameters") && cut->has("beyond_contact") && !cut->has("length");
         const int given = cut->has("diameters") + cut->has("beyond_contact") + cut->has("length");
-        if (given != 1 && !both)
+        if (given != 1 && !capped)
             cut->fail("diameters",
                       "give one of 'diameters', 'beyond_contact' or 'length', or 'diameters' with "
                       "'beyond_contact' (the shorter range of the two)");
-        if (both) {
+        if (cut->has("beyond_contact")) {
             st.cutoff_scale = 1.0;
             st.cutoff_extra = cut->quantity("beyond_contact", units::length, std::nullopt, Bounds::non_negative());
-            st.cutoff_max_scale = cut->number("diameters", std::nullopt, Bounds::closed(1.0, 100.0));
+            if (capped) st.cutoff_max_scale = cut->number("diameters", std::nullopt, Bounds::closed(1.0, 100.0));
         } else if (cut->has("diameters")) {
             st.cutoff_scale = cut->number("diameters", std::nullopt, Bounds::closed(1.0, 100.0));
-        } else if (cut->has("beyond_contact")) {
-            st.cutoff_scale = 1.0;
-            st.cutoff_extra = cut->quantity("beyond_contact", units::length, std::nullopt, Bounds::non_negative());
         } else {
             st.cutoff_scale = 0.0;
             st.cutoff_extra = cut->quantity("length", units::length, std::nullopt, Bounds::positive());

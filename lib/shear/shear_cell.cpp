@@ -429,12 +429,13 @@ private:
         const std::size_t n = cur.upper.size(), settled = mser_truncation(cur.upper);
         const double strain = total * s.dt * plan.rates[k];
         const double settle_strain = n > 0 ? strain * static_cast<double>(settled) / static_cast<double>(n) : 0.0;
+        const bool steady_before_window = settled <= n - up.samples;
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
                                {"strain", strain},
                                {"steady_from_strain", settle_strain},
-                               {"steady_before_window", settled <= n - up.samples},
+                               {"steady_before_window", steady_before_window},
                                {"sample_every_steps", scene_->stages[k + 1].observe_every},
                                {"stress_Pa", up.mean},
                                {"error_Pa", up.error},
@@ -456,7 +457,7 @@ private:
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
-        if (settled > n - up.samples && options_.progress) warn_unsettled(k, settle_strain, strain);
+        if (!steady_before_window && options_.progress) warn_unsettled(k, settle_strain, strain);
     }
 
     // A rate whose stress was still settling inside the averaged window: its mean holds part of

@@ -124,18 +124,16 @@ void read_cell_block(SceneNode cell, const ShearTier& tier, ShearSpec& s) {
         cell.fail("size", "a monolayer's thickness (y, " + fmt_um(s.cell.y) + ") must hold the largest grain (" +
                               fmt_um(s.largest_diameter) +
                               "); it is the thickness the stress is divided by, usually the largest diameter");
-    // The periodic sides (x, and y in 3D) must exceed two of the largest grains the size block
-    // can draw, or a grain would meet its own image; refused here, by the key that fixes it,
-    // rather than by the packing that would fail on it.
-    for (int k = 0; k < (s.monolayer ? 1 : 2); ++k)
-        if (s.cell[k] <= 2 * s.largest_diameter)
+    s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
+    // The periodic sides (x; y in 3D; z between Lees-Edwards images) must exceed two of the
+    // largest grains the size block can draw, or a grain would meet its own image: refused here,
+    // by the key that fixes it, rather than by the packing that would fail on it.
+    const bool periodic[3] = {true, !s.monolayer, s.lees_edwards};
+    for (int k = 0; k < 3; ++k)
+        if (periodic[k] && s.cell[k] <= 2 * s.largest_diameter)
             cell.fail("size", std::string("the periodic side ") + char('x' + k) + " (" + fmt_um(s.cell[k]) +
                                   ") must exceed two of the largest grains (" + fmt_um(2 * s.largest_diameter) +
                                   "); make the cell larger (the tiers use 90-125 um for Trendler's powders)");
-    s.lees_edwards = cell.choice("boundaries", {"rafts", "lees_edwards"}, "rafts") == "lees_edwards";
-    if (s.lees_edwards && s.cell.z <= 2 * s.largest_diameter)
-        cell.fail("size", "a Lees-Edwards cell is periodic in z too: its height (" + fmt_um(s.cell.z) +
-                              ") must exceed two of the largest grains (" + fmt_um(2 * s.largest_diameter) + ")");
     if (s.lees_edwards) {
         if (cell.has("raft_thickness"))
             cell.fail("raft_thickness",
