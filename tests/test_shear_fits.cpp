@@ -148,4 +148,26 @@ TEST_SUITE("unit") {
         CHECK(mser_truncation(slow) == 20);
         CHECK(mser_truncation({1.0, 2.0}) == 0);  // too short to judge
     }
+
+    TEST_CASE("steady state: a rate settling inside its window is flagged, with the strain that leaves it out") {
+        // 40 samples over a strain of 2: the stress climbs for 30 samples (1.5 strain) and MSER stops at
+        // the half, sample 20, i.e. 1.0 strain into the rate.
+        std::vector<double> slow;
+        for (int i = 0; i < 40; ++i) slow.push_back(i < 30 ? i : 30.0);
+        const Settling late = settling_of(slow, 2.0, 20);  // the window: the last 20 samples
+        CHECK(late.strain == doctest::Approx(1.0));
+        CHECK(late.before_window);  // sample 20 is the window's first: steady just in time
+        CHECK_FALSE(settling_of(slow, 2.0, 21).before_window);
+        // A plateau from the start settles at strain 0, before any window.
+        const Settling flat = settling_of(std::vector<double>(40, 5.0), 2.0, 40);
+        CHECK(flat.strain == 0.0);
+        CHECK(flat.before_window);
+        CHECK(settling_of({}, 2.0, 0).before_window);
+        // The advice names the key of the rate that needs it and the strain: 1.0 / (1 - 0.5) = 2.
+        CHECK(unsettled_advice(0, false, 1.0, 0.5) == "raise /ladder/strain_first to give at least 2 strain");
+        CHECK(unsettled_advice(2, false, 0.3, 0.25) == "raise /ladder/strain_per_rate to give at least 0.4 strain");
+        CHECK(unsettled_advice(1, true, 0.3, 0.5).find("/ladder/steps_per_rate") != std::string::npos);
+        CHECK(unsettled_advice(0, true, 0.3, 0.5).find("/ladder/steps_first") != std::string::npos);
+        CHECK(unsettled_advice(0, false, 0.3, 1.0).find("/measure/window") != std::string::npos);
+    }
 }  // TEST_SUITE

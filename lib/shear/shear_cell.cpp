@@ -426,16 +426,14 @@ private:
         const BlockAverage up = window(cur.upper), bulk = window(cur.bulk);
         // Where the stress settles (MSER), against where the averaged window starts: a series still
         // drifting into the window biases the mean, and the report says so.
-        const std::size_t n = cur.upper.size(), settled = mser_truncation(cur.upper);
         const double strain = total * s.dt * plan.rates[k];
-        const double settle_strain = n > 0 ? strain * static_cast<double>(settled) / static_cast<double>(n) : 0.0;
-        const bool steady_before_window = settled <= n - up.samples;
+        const Settling settling = settling_of(cur.upper, strain, up.samples);
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
                                {"strain", strain},
-                               {"steady_from_strain", settle_strain},
-                               {"steady_before_window", steady_before_window},
+                               {"steady_from_strain", settling.strain},
+                               {"steady_before_window", settling.before_window},
                                {"sample_every_steps", scene_->stages[k + 1].observe_every},
                                {"stress_Pa", up.mean},
                                {"error_Pa", up.error},
@@ -457,25 +455,12 @@ private:
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
-        if (!steady_before_window && options_.progress) warn_unsettled(k, settle_strain, strain);
-    }
-
-    // A rate whose stress was still settling inside the averaged window: its mean holds part of
-    // the transient. The window is the last `window` share of the rate's strain, so the strain
-    // that keeps it steady is the settling strain over (1 - window).
-    void warn_unsettled(std::size_t k, double settle_strain, double strain) const {
-        const bool by_steps = spec_.steps_first > 0;
-        const char* key = k == 0 ? (by_steps ? "/ladder/steps_first" : "/ladder/strain_first")
-                                 : (by_steps ? "/ladder/steps_per_rate" : "/ladder/strain_per_rate");
-        std::fprintf(stderr,
-                     "[%s] warning: rate %zu: the stress settles %.3g strain into the rate, inside the averaged "
-                     "window (the last %.0f %% of %.3g); its mean holds part of the transient: ",
-                     options_.label.c_str(), k + 1, settle_strain, 100 * spec_.window_fraction, strain);
-        if (spec_.window_fraction < 1)
-            std::fprintf(stderr, "raise %s to give at least %.3g strain\n", key,
-                         settle_strain / (1 - spec_.window_fraction));
-        else
-            std::fprintf(stderr, "set /measure/window below 1 so the transient is left out\n");
+        if (!settling.before_window && options_.progress)
+            std::fprintf(stderr,
+                         "[%s] warning: rate %zu: the stress settles %.3g strain into the rate, inside the averaged "
+                         "window (the last %.0f %% of %.3g); its mean holds part of the transient: %s\n",
+                         options_.label.c_str(), k + 1, settling.strain, 100 * spec_.window_fraction, strain,
+                         unsettled_advice(k, spec_.steps_first > 0, settling.strain, spec_.window_fraction).c_str());
     }
 
     static int wall_index(const System& s, const std::string& name) {
