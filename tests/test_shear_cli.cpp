@@ -64,6 +64,8 @@ TEST_SUITE("cli") {
             CHECK(q["steady_from_strain"].get<double>() >= 0);
             CHECK(q["steady_from_strain"].get<double>() <= 0.5 * q["strain"].get<double>() * (1 + 1e-12));
             CHECK(q["steady_before_window"].is_boolean());
+            CHECK(q["drifting_in_window"].is_boolean());
+            CHECK(q["drift_error_Pa"].get<double>() >= 0);
         }
         CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
         REQUIRE(res["yield_stress_Pa"].is_number());

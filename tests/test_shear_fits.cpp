@@ -154,20 +154,69 @@ TEST_SUITE("unit") {
         // the half, sample 20, i.e. 1.0 strain into the rate.
         std::vector<double> slow;
         for (int i = 0; i < 40; ++i) slow.push_back(i < 30 ? i : 30.0);
-        const Settling late = settling_of(slow, 2.0, 20);  // the window: the last 20 samples
+        const std::vector<double> flat_blocks(5, 30.0);
+        const Settling late = settling_of(slow, 2.0, 20, flat_blocks);  // the window: the last 20 samples
         CHECK(late.strain == doctest::Approx(1.0));
         CHECK(late.before_window);  // sample 20 is the window's first: steady just in time
-        CHECK_FALSE(settling_of(slow, 2.0, 21).before_window);
+        CHECK(late.steady());
+        CHECK_FALSE(settling_of(slow, 2.0, 21, flat_blocks).before_window);
         // A plateau from the start settles at strain 0, before any window.
-        const Settling flat = settling_of(std::vector<double>(40, 5.0), 2.0, 40);
+        const Settling flat = settling_of(std::vector<double>(40, 5.0), 2.0, 40, flat_blocks);
         CHECK(flat.strain == 0.0);
-        CHECK(flat.before_window);
-        CHECK(settling_of({}, 2.0, 0).before_window);
+        CHECK(flat.steady());
+        CHECK(settling_of({}, 2.0, 0, {}).steady());
+        // A window rising 10, 12, ..., 18 (mean 14): the drift of 10 is significant and more than a
+        // tenth of the mean, so the rate is drifting; the same rise on a mean of 140 is not material.
+        std::vector<double> rise = {10.0, 12.0, 14.0, 16.0, 18.0};
+        CHECK(settling_of(flat_blocks, 2.0, 5, rise).drifting);
+        CHECK_FALSE(settling_of(flat_blocks, 2.0, 5, rise).steady());
+        for (double& m : rise) m += 126.0;
+        CHECK(settling_of(flat_blocks, 2.0, 5, rise).drift.significant);
+        CHECK_FALSE(settling_of(flat_blocks, 2.0, 5, rise).drifting);
         // The advice names the key of the rate that needs it and the strain: 1.0 / (1 - 0.5) = 2.
-        CHECK(unsettled_advice(0, false, 1.0, 0.5) == "raise /ladder/strain_first to give at least 2 strain");
-        CHECK(unsettled_advice(2, false, 0.3, 0.25) == "raise /ladder/strain_per_rate to give at least 0.4 strain");
-        CHECK(unsettled_advice(1, true, 0.3, 0.5).find("/ladder/steps_per_rate") != std::string::npos);
-        CHECK(unsettled_advice(0, true, 0.3, 0.5).find("/ladder/steps_first") != std::string::npos);
-        CHECK(unsettled_advice(0, false, 0.3, 1.0).find("/measure/window") != std::string::npos);
+        Settling inside;
+        inside.strain = 1.0;
+        inside.before_window = false;
+        CHECK(unsettled_advice(0, false, inside, 1.5, 0.5) == "raise /ladder/strain_first to give at least 2 strain");
+        inside.strain = 0.3;
+        CHECK(unsettled_advice(2, false, inside, 0.5, 0.25) ==
+              "raise /ladder/strain_per_rate to give at least 0.4 strain");
+        CHECK(unsettled_advice(1, true, inside, 0.5, 0.5).find("/ladder/steps_per_rate") != std::string::npos);
+        CHECK(unsettled_advice(0, true, inside, 0.5, 0.5).find("/ladder/steps_first") != std::string::npos);
+        CHECK(unsettled_advice(0, false, inside, 0.5, 1.0).find("/measure/window") != std::string::npos);
+        // Still drifting: no strain to read off, only that the rate's was not enough.
+        Settling drifting;
+        drifting.drift = {5.0, 1.0, true};
+        drifting.drifting = true;
+        CHECK(unsettled_advice(0, false, drifting, 0.3, 0.5) ==
+              "raise /ladder/strain_first beyond 0.3 strain, until the window's stress stops drifting");
+    }
+
+    TEST_CASE("steady state: the window's drift is the line through its block means, judged by Student's t") {
+        // Exact line: block means 10, 12, ..., 18 rise 2 a block, 10 over the window's 5 blocks, with no
+        // residual, so no error and a significant drift.
+        const Drift line = window_drift({10.0, 12.0, 14.0, 16.0, 18.0});
+        CHECK(line.change == doctest::Approx(10.0));
+        CHECK(line.error == doctest::Approx(0.0).epsilon(1e-12));
+        CHECK(line.significant);
+        // Alternating noise about a plateau: slope exactly 0 by symmetry, never significant.
+        const Drift zigzag = window_drift({5.0, 6.0, 5.0, 6.0, 5.0});
+        CHECK(zigzag.change == doctest::Approx(0.0).epsilon(1e-12));
+        CHECK_FALSE(zigzag.significant);
+        // By hand, means 0, 2, 1, 3, 2 at x = 0..4: mean 1.6, Sxx 10, Sxy 5, slope 0.5; residuals -0.6,
+        // 0.9, -0.6, 0.9, -0.6, SSres 2.7, slope error sqrt(2.7 / 3 / 10) = 0.3. Over 5 blocks: 2.5 +- 1.5.
+        const Drift noisy = window_drift({0.0, 2.0, 1.0, 3.0, 2.0});
+        CHECK(noisy.change == doctest::Approx(2.5));
+        CHECK(noisy.error == doctest::Approx(1.5));
+        // t = 0.5 / 0.3 = 1.67 against 3.18 for 3 degrees of freedom: not significant.
+        CHECK_FALSE(noisy.significant);
+        // The same rise with a quarter of the scatter: t = 6.7, significant.
+        const Drift clean = window_drift({-0.15, 0.5 + 0.225, 1.0 - 0.15, 1.5 + 0.225, 2.0 - 0.15});
+        CHECK(clean.change == doctest::Approx(2.5));
+        CHECK(clean.significant);
+        // Two blocks cannot be judged.
+        const Drift two = window_drift({1.0, 100.0});
+        CHECK(two.change == 0.0);
+        CHECK_FALSE(two.significant);
     }
 }  // TEST_SUITE

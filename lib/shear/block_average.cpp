@@ -24,6 +24,7 @@ BlockAverage block_average(const std::vector<double>& samples, std::size_t block
     r.mean = mean;
     r.blocks = b;
     r.samples = b * len;
+    r.means = means;
     r.error = b > 1 ? std::sqrt(var / static_cast<double>(b - 1) / static_cast<double>(b)) : 0.0;
     return r;
 }

@@ -10,9 +10,10 @@ namespace mrjam {
 
 struct BlockAverage {
     double mean = 0;
-    double error = 0;         // standard error of the mean from the block means (0 for one block)
-    std::size_t blocks = 0;   // blocks actually used
-    std::size_t samples = 0;  // samples used (a remainder that does not fill a block is dropped from the front)
+    double error = 0;           // standard error of the mean from the block means (0 for one block)
+    std::size_t blocks = 0;     // blocks actually used
+    std::size_t samples = 0;    // samples used (a remainder that does not fill a block is dropped from the front)
+    std::vector<double> means;  // each block's mean, oldest first
 };
 
 // `blocks` blocks of equal length (fewer if there are fewer samples). The oldest samples are the

@@ -427,13 +427,16 @@ private:
         // Where the stress settles (MSER), against where the averaged window starts: a series still
         // drifting into the window biases the mean, and the report says so.
         const double strain = total * s.dt * plan.rates[k];
-        const Settling settling = settling_of(cur.upper, strain, up.samples);
+        const Settling settling = settling_of(cur.upper, strain, up.samples, up.means);
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
                                {"strain", strain},
                                {"steady_from_strain", settling.strain},
                                {"steady_before_window", settling.before_window},
+                               {"drift_in_window_Pa", settling.drift.change},
+                               {"drift_error_Pa", settling.drift.error},
+                               {"drifting_in_window", settling.drifting},
                                {"sample_every_steps", scene_->stages[k + 1].observe_every},
                                {"stress_Pa", up.mean},
                                {"error_Pa", up.error},
@@ -455,12 +458,25 @@ private:
             std::fprintf(stderr, "[%s] rate %.4g 1/s: stress %.4g +- %.2g kPa (%s)\n", options_.label.c_str(),
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
-        if (!settling.before_window && options_.progress)
+        if (!settling.steady() && options_.progress) warn_unsettled(k, settling, strain);
+    }
+
+    // A rate not steady in its averaged window (settling inside it, or still drifting through it):
+    // its mean holds part of the transient, and the warning names the key to raise.
+    void warn_unsettled(std::size_t k, const Settling& settling, double strain) const {
+        if (settling.drifting)
+            std::fprintf(stderr,
+                         "[%s] warning: rate %zu: the stress still drifts by %.3g +- %.2g kPa across the averaged "
+                         "window (the last %.0f %% of %.3g strain); its mean is not a steady stress: %s\n",
+                         options_.label.c_str(), k + 1, settling.drift.change * 1e-3, settling.drift.error * 1e-3,
+                         100 * spec_.window_fraction, strain,
+                         unsettled_advice(k, spec_.steps_first > 0, settling, strain, spec_.window_fraction).c_str());
+        else
             std::fprintf(stderr,
                          "[%s] warning: rate %zu: the stress settles %.3g strain into the rate, inside the averaged "
                          "window (the last %.0f %% of %.3g); its mean holds part of the transient: %s\n",
                          options_.label.c_str(), k + 1, settling.strain, 100 * spec_.window_fraction, strain,
-                         unsettled_advice(k, spec_.steps_first > 0, settling.strain, spec_.window_fraction).c_str());
+                         unsettled_advice(k, spec_.steps_first > 0, settling, strain, spec_.window_fraction).c_str());
     }
 
     static int wall_index(const System& s, const std::string& name) {

@@ -1,6 +1,7 @@
 #include "shear/steady_state.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -29,21 +30,68 @@ std::size_t mser_truncation(const std::vector<double>& x) {
     return best;
 }
 
-Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples) {
+namespace {
+
+// Two-sided 95 % quantile of Student's t for `dof` degrees of freedom (tabulated to 10; 2.0
+// beyond, between the table's 2.23 and the normal's 1.96).
+double t_critical_95(std::size_t dof) {
+    static const double table[] = {12.71, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228};
+    return dof >= 1 && dof <= 10 ? table[dof - 1] : 2.0;
+}
+
+}  // namespace
+
+Drift window_drift(const std::vector<double>& block_means) {
+    const std::size_t b = block_means.size();
+    if (b < 3) return {};
+    const double n = static_cast<double>(b), x_mean = (n - 1) / 2;
+    double y_mean = 0;
+    for (double y : block_means) y_mean += y / n;
+    double sxx = 0, sxy = 0;
+    for (std::size_t k = 0; k < b; ++k) {
+        sxx += (k - x_mean) * (k - x_mean);
+        sxy += (k - x_mean) * (block_means[k] - y_mean);
+    }
+    const double slope = sxy / sxx;
+    double ss_res = 0;
+    for (std::size_t k = 0; k < b; ++k) {
+        const double r = block_means[k] - y_mean - slope * (k - x_mean);
+        ss_res += r * r;
+    }
+    const double slope_error = std::sqrt(ss_res / (n - 2) / sxx);
+    Drift d{slope * n, slope_error * n, false};
+    d.significant = std::abs(slope) > t_critical_95(b - 2) * slope_error;
+    return d;
+}
+
+Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples,
+                     const std::vector<double>& window_block_means) {
     const std::size_t n = series.size();
     if (n == 0) return {};
     const std::size_t settled = mser_truncation(series);
-    return {rate_strain * static_cast<double>(settled) / static_cast<double>(n),
-            settled + std::min(window_samples, n) <= n};
+    Settling s;
+    s.strain = rate_strain * static_cast<double>(settled) / static_cast<double>(n);
+    s.before_window = settled + std::min(window_samples, n) <= n;
+    s.drift = window_drift(window_block_means);
+    double mean = 0;
+    for (double m : window_block_means) mean += m / static_cast<double>(window_block_means.size());
+    s.drifting = s.drift.significant && std::abs(s.drift.change) > kMaterialDrift * std::abs(mean);
+    return s;
 }
 
-std::string unsettled_advice(std::size_t rate_index, bool by_steps, double settle_strain, double window_fraction) {
-    if (window_fraction >= 1) return "set /measure/window below 1 so the transient is left out";
+std::string unsettled_advice(std::size_t rate_index, bool by_steps, const Settling& settling, double rate_strain,
+                             double window_fraction) {
     const char* key = rate_index == 0 ? (by_steps ? "/ladder/steps_first" : "/ladder/strain_first")
                                       : (by_steps ? "/ladder/steps_per_rate" : "/ladder/strain_per_rate");
-    char text[160];
-    std::snprintf(text, sizeof text, "raise %s to give at least %.3g strain", key,
-                  settle_strain / (1 - window_fraction));
+    char text[200];
+    if (settling.drifting)
+        std::snprintf(text, sizeof text, "raise %s beyond %.3g strain, until the window's stress stops drifting", key,
+                      rate_strain);
+    else if (window_fraction >= 1)
+        return "set /measure/window below 1 so the transient is left out";
+    else
+        std::snprintf(text, sizeof text, "raise %s to give at least %.3g strain", key,
+                      settling.strain / (1 - window_fraction));
     return text;
 }
 

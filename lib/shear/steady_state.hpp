@@ -14,18 +14,43 @@ namespace mrjam {
 // The first sample of the steady part (0 for a series steady from its start, or one too short to judge).
 std::size_t mser_truncation(const std::vector<double>& x);
 
+// A trend left in the averaged window: the least-squares line through its block means (blocks
+// longer than the correlation time are nearly independent, so the line's residuals give its
+// error). `change` is the line's rise over the window's length, `error` its standard error;
+// `significant` when |change| exceeds the two-sided 95 % Student-t bound (blocks - 2 degrees of
+// freedom). Fewer than 3 blocks cannot be judged: no change, not significant. MSER misses a
+// series that still rises steadily through its whole length, since it only searches the first
+// half; the line does not.
+struct Drift {
+    double change = 0.0;
+    double error = 0.0;
+    bool significant = false;
+};
+Drift window_drift(const std::vector<double>& block_means);
+
 // One rate's settling against its averaged window: the strain into the rate at which its stress
-// series settles (MSER), and whether that lies before the window's first sample.
+// series settles (MSER), whether that lies before the window's first sample, and the window's drift.
+// `drifting` asks for a drift both significant and material: more than a tenth of the window's mean
+// stress, which moves the mean by more than 5 %, near the seed-to-seed scatter (7-11 %) that the
+// quoted errors are held to. A shorter window than the stress's correlation strain makes its block
+// means correlated and the t test too eager; the materiality keeps those from being flagged.
 struct Settling {
     double strain = 0.0;
     bool before_window = true;
+    Drift drift;
+    bool drifting = false;
+    bool steady() const { return before_window && !drifting; }
 };
-Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples);
+inline constexpr double kMaterialDrift = 0.1;  // of the window's mean stress
+Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples,
+                     const std::vector<double>& window_block_means);
 
-// What to change when a rate settles inside its window (rate_index 0 is the first, longer rate).
-// The window is the last `window_fraction` of the rate's strain, so the strain that leaves the
-// transient out is the settling strain over (1 - window_fraction); a window of the whole rate
-// cannot leave it out at any strain.
-std::string unsettled_advice(std::size_t rate_index, bool by_steps, double settle_strain, double window_fraction);
+// What to change when a rate is not steady in its window (rate_index 0 is the first, longer rate).
+// Settling inside the window: the window is the last `window_fraction` of the rate's strain, so
+// the strain that leaves the transient out is the settling strain over (1 - window_fraction), and a
+// window of the whole rate cannot leave it out at any strain. Still drifting: no strain can be
+// read off, only that the rate's `rate_strain` was not enough.
+std::string unsettled_advice(std::size_t rate_index, bool by_steps, const Settling& settling, double rate_strain,
+                             double window_fraction);
 
 }  // namespace mrjam
