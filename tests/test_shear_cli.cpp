@@ -387,6 +387,33 @@ TEST_SUITE("cli") {
         }
     }
 
+    TEST_CASE("shear cli: a Lees-Edwards cell started at a high rate starts on the affine profile") {
+        // 1e6 1/s in the 40 um cell: the sliding image moves at rate Z = 40 m/s. Grains started from
+        // rest would meet it at up to that speed; on the affine profile neighbours approach at about
+        // rate d = 6.7 m/s. The largest Hertz overlap of a head-on pair at speed v (equal spheres,
+        // delta / R = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) / R) is 0.080 R at rate d and 0.33 R at
+        // rate Z; the test allows twice the first, which a start from rest exceeded (0.17 R).
+        TempDir dir;
+        json scene = small_scene(dir.file("out"));
+        scene["cell"] = {{"size", {"40 um", "40 um", "40 um"}}, {"boundaries", "lees_edwards"}};
+        scene["ladder"] = {{"shear_rates", {"1e6 1/s", "5e5 1/s"}}, {"steps_first", 20}, {"steps_per_rate", 20}};
+        const Result r = shear(dir, "fast", scene, "--quiet");
+        CAPTURE(r.err);
+        REQUIRE(r.exit_code == 0);
+        const json rep = json::parse(slurp(dir.file("fast_report.json")));
+        const double radius = 3.35e-6, rate = 1e6, v = rate * 2 * radius;
+        const double mass = 7800 * 4.0 / 3.0 * 3.141592653589793 * radius * radius * radius;
+        const double e_star = 1e9 / (2 * (1 - 0.278 * 0.278)), r_star = radius / 2;
+        const double hertz = std::pow(15 * (mass / 2) * v * v / (16 * e_star * std::sqrt(r_star)), 0.4) / radius;
+        CHECK(hertz == rel(0.0797).epsilon(0.01));
+        const json& first = rep["results"]["flow_curve"][0];
+        CHECK(first["max_overlap_ratio_seen"].get<double>() < 2 * hertz);
+        CHECK(std::isfinite(first["stress_Pa"].get<double>()));
+        // Too few steps for the samples is refused by the key that sets them, not averaged from one sample.
+        scene["ladder"] = {{"shear_rates", {"1e7 1/s"}}, {"strain_first", 0.1}};
+        expect_shear_refused(dir, "few_steps", scene, "/ladder/strain_first");
+    }
+
     TEST_CASE("shear cli: --calibrate fits a parameter to a measured flow curve and reports the optimum") {
         TempDir dir;
         const json scene = small_scene(dir.file("out"));

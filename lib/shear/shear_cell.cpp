@@ -180,6 +180,17 @@ private:
                                                           format_number(dt, 3) + " s at " +
                                                           format_number(plan.rates[k]) + " 1/s, more than " +
                                                           format_number(kMostSteps) + cause);
+            // Fewer steps than stress samples: the window holds one or two samples and a zero error.
+            const bool fixed = plan.steps[k] > 0;
+            const double taken = fixed ? static_cast<double>(plan.steps[k]) : steps;
+            if (taken < spec_.samples_per_rate)
+                throw SceneError(
+                    fixed ? (k == 0 ? "/ladder/steps_first" : "/ladder/steps_per_rate") : plan.strain_keys[k],
+                    "gives " + format_number(taken, 2) + " steps of " + format_number(dt, 3) + " s at " +
+                        format_number(plan.rates[k]) + " 1/s, fewer than the " +
+                        std::to_string(spec_.samples_per_rate) +
+                        " stress samples of /measure/samples_per_rate (one a step at most): raise it, "
+                        "lower the rate or the samples");
         }
         if (!(spec_.magnetise_max / dt <= kMostSteps))
             throw SceneError("/magnetise/max_duration", "needs " + format_number(spec_.magnetise_max / dt, 2) +
@@ -354,6 +365,7 @@ private:
             cur.lower.clear();
             cur.bulk.clear();
             cur.max_overlap = 0;
+            if (spec_.lees_edwards) step_affine_profile(s, 2 * wall_speed / spec_.cell.z);
         }
         apply_rate(s, wall_speed);
         rate_started_ = Clock::now();
@@ -377,6 +389,19 @@ private:
             }
         }
         prepare(s);
+    }
+
+    // A Lees-Edwards rate starts with every grain on the new affine profile (its x velocity changed
+    // by the change of rate times its height from the centre), as the sliding images are at once.
+    // Started from rest, the grains next to the boundary would meet images moving at rate x Z
+    // (the whole box's velocity difference) instead of rate x d, a collision the step was not
+    // chosen for. Applied once per rate (fresh), not on resume: the checkpoint holds the velocities.
+    static void step_affine_profile(System& s, double new_rate) {
+        const double z_mid = 0.5 * (s.domain.lo.z + s.domain.hi.z);
+        const double height = s.domain.hi.z - s.domain.lo.z;
+        const double change = new_rate - s.domain.shear_velocity / height;
+        for (std::size_t i = 0; i < s.particles.size(); ++i)
+            s.particles.velocity[i].x += change * (s.particles.position[i].z - z_mid);
     }
 
     void apply_rate(System& s, double v) const {
