@@ -66,6 +66,12 @@ TEST_SUITE("cli") {
             CHECK(q["steady_before_window"].is_boolean());
             CHECK(q["drifting_in_window"].is_boolean());
             CHECK(q["drift_error_Pa"].get<double>() >= 0);
+            // Mn times the magnetic scale is the carrier's viscous stress, 10 mPa s x rate.
+            CHECK(q["mason_number"].get<double>() * q["magnetic_stress_scale_Pa"].get<double>() ==
+                  rel(0.010 * q["rate_1_s"].get<double>()));
+            CHECK(q["stress_over_magnetic_scale"].get<double>() * q["magnetic_stress_scale_Pa"].get<double>() ==
+                  rel(q["stress_Pa"].get<double>()));
+            CHECK(q["contacts_per_grain"].get<double>() > 0);
         }
         CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
         REQUIRE(res["yield_stress_Pa"].is_number());

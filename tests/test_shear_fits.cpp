@@ -7,6 +7,7 @@
 
 #include "rel_approx.hpp"
 #include "shear/block_average.hpp"
+#include "shear/dimensionless.hpp"
 #include "shear/flow_curve_fit.hpp"
 #include "shear/steady_state.hpp"
 
@@ -147,6 +148,28 @@ TEST_SUITE("unit") {
         for (int i = 0; i < 40; ++i) slow.push_back(i < 30 ? i : 30.0);
         CHECK(mser_truncation(slow) == 20);
         CHECK(mser_truncation({1.0, 2.0}) == 0);  // too short to judge
+    }
+
+    TEST_CASE("dimensionless numbers: Clausius-Mossotti contrast, magnetic stress scale and Mason number") {
+        // beta: 0 for a grain like the carrier, 1 for a perfect magnet, (mu - 1) / (mu + 2) between.
+        CHECK(clausius_mossotti_beta(1.0) == 0.0);
+        CHECK(clausius_mossotti_beta(1000.0) == rel(999.0 / 1002.0));
+        CHECK(clausius_mossotti_beta(1e12) == rel(1.0).epsilon(1e-9));
+        // 2 mu0 beta^2 H0^2 = 2 beta^2 B^2 / mu0: with beta = 1 and B = mu0 (H0 = 1 A/m), 2 mu0 Pa.
+        CHECK(magnetic_stress_scale(1.25663706212e-6, 1.0) == rel(2 * 1.25663706212e-6));
+        // The chapter-2 fluid at 600 mT: 2 (999/1002)^2 0.36 / mu0 = 569.5 kPa; the scale goes as B^2.
+        const double beta = clausius_mossotti_beta(1000.0);
+        const double scale = magnetic_stress_scale(0.6, beta);
+        CHECK(scale == rel(2 * beta * beta * 0.36 / 1.25663706212e-6));
+        CHECK(scale == rel(5.695e5).epsilon(1e-3));
+        CHECK(magnetic_stress_scale(0.3, beta) == rel(scale / 4));
+        // Mn times the scale is the carrier's viscous stress: 10 mPa s at 1164 1/s is 11.64 Pa.
+        const double mn = mason_number(0.010, 1164.0, 0.6, beta);
+        CHECK(mn * scale == rel(11.64));
+        CHECK(mason_number(0.010, 2 * 1164.0, 0.6, beta) == rel(2 * mn));
+        // No field: no magnetic scale, an infinite Mason number.
+        CHECK(magnetic_stress_scale(0.0, beta) == 0.0);
+        CHECK(std::isinf(mason_number(0.010, 1164.0, 0.0, beta)));
     }
 
     TEST_CASE("steady state: a rate settling inside its window is flagged, with the strain that leaves it out") {

@@ -18,6 +18,7 @@
 #include "scene/scene.hpp"
 #include "scene/scene_node.hpp"
 #include "shear/block_average.hpp"
+#include "shear/dimensionless.hpp"
 #include "shear/field_sweep.hpp"
 #include "shear/shear_analysis.hpp"
 #include "shear/shear_progress.hpp"
@@ -473,6 +474,7 @@ private:
                                {"series_upper_Pa", cur.upper},
                                {"max_overlap_ratio_seen", cur.max_overlap},
                                {"wall_time_s", seconds_since(rate_started_)}};
+        add_dimensionless(s, plan, k, up.mean, rate);
         if (!spec_.lees_edwards) {
             const BlockAverage lo = window(cur.lower);
             rate["lower_raft_stress_Pa"] = lo.mean;
@@ -484,6 +486,21 @@ private:
                          plan.rates[k], up.mean * 1e-3, up.error * 1e-3,
                          spec_.lees_edwards ? "Lees-Edwards virial" : "upper raft");
         if (!settling.steady() && options_.progress) warn_unsettled(k, settling, strain);
+    }
+
+    // What a rheologist compares flow curves by (shear/dimensionless.hpp), and the structure at the
+    // rate's end: contacts per grain and how closely their normals follow the field.
+    void add_dimensionless(const System& s, const CellPlan& plan, std::size_t k, double stress,
+                           nlohmann::json& rate) const {
+        const double beta = clausius_mossotti_beta(s.materials.at(0).relative_permeability);
+        const double scale = magnetic_stress_scale(plan.flux_density, beta);
+        const double mason = mason_number(spec_.viscosity, plan.rates[k], plan.flux_density, beta);
+        rate["mason_number"] = std::isfinite(mason) ? nlohmann::json(mason) : nlohmann::json();
+        rate["magnetic_stress_scale_Pa"] = scale;
+        rate["stress_over_magnetic_scale"] = scale > 0 ? nlohmann::json(stress / scale) : nlohmann::json();
+        const ChainState cs = chain_state(s, spec_.field_direction);
+        rate["contacts_per_grain"] = cs.contacts_per_grain;
+        rate["mean_abs_cos_to_field"] = cs.mean_abs_cos;
     }
 
     // A rate not steady in its averaged window (settling inside it, or still drifting through it):
