@@ -119,22 +119,71 @@ Plot stress_strain_plot(const nlohmann::json& r) {
     return plot;
 }
 
-}  // namespace
+// The local slope d ln(stress) / d ln(rate) between successive rates ("" if a stress is not positive):
+// 0 for a yield-stress plateau, 1 for a Newtonian fluid, n for a power law.
+std::string local_slopes(const PlotSeries& curve) {
+    std::string text;
+    for (std::size_t k = 0; k + 1 < curve.x.size(); ++k) {
+        if (!(curve.y[k] > 0 && curve.y[k + 1] > 0)) return "";
+        char one[24];
+        std::snprintf(one, sizeof one, "%s%.2f", k ? ", " : "",
+                      std::log(curve.y[k] / curve.y[k + 1]) / std::log(curve.x[k] / curve.x[k + 1]));
+        text += one;
+    }
+    return text;
+}
 
-nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann::json& report) {
-    nlohmann::json paths = nlohmann::json::object();
+// Rates spanning more than kLogRateSpan are drawn on log axes (log-log when every stress is positive),
+// with the local slopes in the legend: on linear axes most such rates sit at the origin. The Bingham
+// line is then drawn through log-spaced rates, and the experimental yield stress from the lowest rate.
+constexpr double kLogRateSpan = 20;
+
+Plot flow_curve_plot(const nlohmann::json& report) {
     const auto& r = report["results"];
     Plot plot;
     plot.title = "Flow curve (" + report["fidelity"].value("tier", std::string()) + " tier)";
     plot.x_label = "shear rate (1/s)";
     plot.y_label = "shear stress (kPa)";
-    plot.series.push_back(curve_series(r["flow_curve"], "simulation (upper raft)"));
-    double x_max = 0;
-    for (double x : plot.series[0].x) x_max = std::max(x_max, x);
-    add_bingham(plot, r["fits"], x_max);
-    add_experiment(plot, r.value("experiment", nlohmann::json()), x_max);
+    PlotSeries curve = curve_series(r["flow_curve"], "simulation (upper raft)");
+    double x_min = 1e300, x_max = 0;
+    for (double x : curve.x) x_min = std::min(x_min, x), x_max = std::max(x_max, x);
+    plot.log_x = !curve.x.empty() && x_max > kLogRateSpan * x_min;
+    const std::string slopes = plot.log_x ? local_slopes(curve) : "";
+    plot.log_y = !slopes.empty();
+    if (!slopes.empty()) curve.label += "; d ln stress / d ln rate, high to low rates: " + slopes;
+    plot.series.push_back(curve);
+    if (!plot.log_x) {
+        add_bingham(plot, r["fits"], x_max);
+        add_experiment(plot, r.value("experiment", nlohmann::json()), x_max);
+        return plot;
+    }
+    const auto& fits = r["fits"];
+    if (fits.contains("bingham") && fits["bingham"].value("ok", false)) {
+        PlotSeries line = bingham_line(fits["bingham"], x_max, "Bingham fit", "#d62728");
+        const double ty = fits["bingham"]["yield_stress_Pa"].get<double>();
+        const double eta = fits["bingham"]["plastic_viscosity_Pa_s"].get<double>();
+        line.x.clear();
+        line.y.clear();
+        for (int i = 0; i <= 40; ++i) {
+            const double x = 0.5 * x_min * std::pow(3 * x_max / x_min, i / 40.0);
+            line.x.push_back(x);
+            line.y.push_back((ty + eta * x) * 1e-3);
+        }
+        plot.series.push_back(line);
+    }
+    const nlohmann::json experiment = r.value("experiment", nlohmann::json());
+    add_experiment(plot, experiment, x_max);
+    if (!plot.series.empty() && experiment.contains("yield_stress_Pa")) plot.series.back().x = {0.5 * x_min, x_max};
+    return plot;
+}
+
+}  // namespace
+
+nlohmann::json write_shear_plots(const std::string& report_path, const nlohmann::json& report) {
+    nlohmann::json paths = nlohmann::json::object();
+    const auto& r = report["results"];
     const std::string fc = sibling(report_path, "_flow_curve.svg");
-    write_svg(fc, plot);
+    write_svg(fc, flow_curve_plot(report));
     paths["flow_curve"] = fc;
     if (r.contains("stress_series_upper_Pa") && !r["flow_curve"].empty()) {
         const std::string ss = sibling(report_path, "_stress_strain.svg");
