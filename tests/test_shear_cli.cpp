@@ -133,6 +133,13 @@ TEST_SUITE("cli") {
         CHECK(run["seed"] == 2);
         CHECK(run["results"]["cell"]["size_m"][0].get<double>() == rel(40e-6));
         CHECK(res["sizes"][1]["seed_yield_stresses_Pa"][1] == run["results"]["yield_stress_Pa"]);
+        // Each rate counts the seeds still drifting through its window, as their reports say.
+        int drifting = 0;
+        for (const char* seed : {"40um_seed1", "40um_seed2"})
+            drifting += json::parse(slurp(dir.file(std::string("out/convergence/points/") + seed +
+                                                   "/report.json")))["results"]["flow_curve"][0]["drifting_in_window"]
+                            .get<bool>();
+        CHECK(res["sizes"][1]["flow_curve"][0]["seeds_drifting"] == drifting);
         for (const char* plot : {"convergence", "flow_curves"})
             CHECK(slurp(rep["plots"][plot].get<std::string>()).rfind("<svg", 0) == 0);
         // Rerun: every run is done, none is run again, and the verdict is the same.

@@ -63,10 +63,12 @@ json mean_flow_curve(const std::vector<json>& reports, std::vector<FlowPoint>& c
     for (std::size_t k = 0; k < rates && !reports.empty(); ++k) {
         std::vector<double> stress;
         double block_sq = 0;
+        int drifting = 0;  // seeds whose stress still drifted through this rate's window
         for (const json& r : reports) {
             const json& q = r["results"]["flow_curve"][k];
             stress.push_back(q["stress_Pa"].get<double>());
             block_sq += std::pow(q["error_Pa"].get<double>(), 2);
+            drifting += q.value("drifting_in_window", false) ? 1 : 0;
         }
         const double n = static_cast<double>(stress.size());
         const MeanSd m = mean_and_sd(stress);
@@ -80,7 +82,8 @@ json mean_flow_curve(const std::vector<json>& reports, std::vector<FlowPoint>& c
                        {"seed_sd_Pa", m.sd},
                        {"seed_error_Pa", spread_error},
                        {"block_error_Pa", block_error},
-                       {"seeds", stress.size()}});
+                       {"seeds", stress.size()},
+                       {"seeds_drifting", drifting}});
     }
     return out;
 }
