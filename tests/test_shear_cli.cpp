@@ -73,6 +73,12 @@ TEST_SUITE("cli") {
                   rel(q["stress_Pa"].get<double>()));
             CHECK(q["contacts_per_grain"].get<double>() > 0);
         }
+        // The fitted rates not steady in their windows are listed, as their own flags say.
+        std::vector<double> unsteady;
+        for (const auto& q : res["flow_curve"])
+            if (!q["steady_before_window"].get<bool>() || q["drifting_in_window"].get<bool>())
+                unsteady.push_back(q["rate_1_s"].get<double>());
+        CHECK(res["fit_rates_not_steady_1_s"].get<std::vector<double>>() == unsteady);
         CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
         REQUIRE(res["yield_stress_Pa"].is_number());
         CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);

@@ -47,6 +47,9 @@ CASES = {
                              "volume reading of the size table"),
     "quick_density10": ("sensitivity", "quick", {"/scaling": {"density": 10}}, "density x 10"),
     "quick_long_first_rate": ("sensitivity", "quick", {"/ladder/strain_first": 1.5}, "first rate 1.5 strain"),
+    "quick_lees_edwards": ("sensitivity", "quick", {"/cell/boundaries": "lees_edwards"}, "Lees-Edwards boundaries"),
+    "quick_lees_edwards_seed2": ("sensitivity", "quick", {"/cell/boundaries": "lees_edwards", "/seed": 2},
+                                 "Lees-Edwards boundaries, seed 2"),
 }
 
 

@@ -56,6 +56,14 @@ nlohmann::json summarise(const ShearSpec& spec, const nlohmann::json& cells, con
     r["yield_stress_Pa"] = bingham.ok ? nlohmann::json(bingham.yield_stress) : nlohmann::json(nullptr);
     r["yield_stress_error_Pa"] = bingham.ok ? nlohmann::json(bingham.yield_stress_error) : nlohmann::json(nullptr);
     if (!bingham.ok) r["yield_stress_note"] = bingham.note;
+    // The fitted rates whose stress was not steady in its window: the intercept carries their
+    // transient. A first rate still rising lowers the fastest point, tilts the line down and
+    // raises the intercept above every point (measured in docs/notes/shear_strain.md).
+    r["fit_rates_not_steady_1_s"] = nlohmann::json::array();
+    for (const auto& q : r["flow_curve"])
+        if (q["rate_1_s"].get<double>() >= spec.bingham_min_rate &&
+            (!q.value("steady_before_window", true) || q.value("drifting_in_window", false)))
+            r["fit_rates_not_steady_1_s"].push_back(q["rate_1_s"]);
 
     if (!spec.sweep_fields.empty()) r["field_sweep"] = field_sweep.is_array() ? field_sweep : nlohmann::json::array();
     if (spec.experiment.is_object()) {
