@@ -32,8 +32,8 @@ Drift window_drift(const std::vector<double>& block_means);
 // series settles (MSER), whether that lies before the window's first sample, and the window's drift.
 // `drifting` asks for a drift both significant and material: more than a tenth of the window's mean
 // stress, which moves the mean by more than 5 %, near the seed-to-seed scatter (7-11 %) that the
-// quoted errors are held to. A shorter window than the stress's correlation strain makes its block
-// means correlated and the t test too eager; the materiality keeps those from being flagged.
+// quoted errors are held to. A window shorter than the stress's correlation strain makes its block
+// means correlated and the t test too eager; the materiality keeps its small swings unflagged.
 struct Settling {
     double strain = 0.0;
     bool before_window = true;
