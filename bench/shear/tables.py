@@ -4,7 +4,7 @@
 Every row is the bundled 00:100 example (examples/shear_trendler_00-100.json) at a tier, with a
 seed and at most a few keys changed (CASES below). `--run` runs the rows whose report is missing
 (one `mrjam shear` at a time, one thread each, into OUT/NAME/report.json, with OUT/NAME/run.json
-saying which commit and when); `--write` rewrites each table of docs/shear.md between its
+saying which commit built the binary, `--commit`, by default the checkout's HEAD, and when); `--write` rewrites each table of docs/shear.md between its
 markers, `<!-- tables.py: TABLE -->` and `<!-- tables.py: end -->`, from those reports, with the
 commit and date of the runs. A table is only written when every row of it has a report from
 the same commit, so a table never mixes binaries.
@@ -69,7 +69,7 @@ def commit():
         return "unknown"
 
 
-def run_case(name, mrjam, out):
+def run_case(name, mrjam, out, built_from):
     table, tier, changes, _ = CASES[name]
     folder = out / name
     folder.mkdir(parents=True, exist_ok=True)
@@ -83,7 +83,7 @@ def run_case(name, mrjam, out):
     started = time.time()
     with open(folder / "log.txt", "w") as log:
         code = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT).returncode
-    info = {"command": " ".join(cmd), "exit": code, "wall_s": round(time.time() - started, 1), "commit": commit(),
+    info = {"command": " ".join(cmd), "exit": code, "wall_s": round(time.time() - started, 1), "commit": built_from,
             "date": datetime.date.today().isoformat()}
     (folder / "run.json").write_text(json.dumps(info, indent=1))
     print(f"{name}: exit {code}, {info['wall_s']} s", flush=True)
@@ -175,6 +175,7 @@ def main():
     ap.add_argument("--only", nargs="*", default=["*"], help="glob(s) on the row names")
     ap.add_argument("--mrjam", default=str(ROOT / "build" / "mrjam"))
     ap.add_argument("--out", default=str(ROOT / "out" / "bench_shear"))
+    ap.add_argument("--commit", help="the commit the binary was built from (default: the checkout's HEAD)")
     args = ap.parse_args()
     out = pathlib.Path(args.out)
     chosen = [n for n in CASES if any(fnmatch.fnmatch(n, g) for g in args.only)]
@@ -185,7 +186,7 @@ def main():
     if args.run:
         for n in chosen:
             if not (out / n / "report.json").exists():
-                run_case(n, args.mrjam, out)
+                run_case(n, args.mrjam, out, args.commit or commit())
     if args.write:
         write(out)
 
