@@ -54,11 +54,15 @@ CASES = {
 
 
 def set_pointer(doc, pointer, value):
+    """Sets doc at a JSON pointer, creating objects on the way (a list is indexed by number)."""
     parts = pointer.lstrip("/").split("/")
     node = doc
     for p in parts[:-1]:
-        node = node.setdefault(p, {})
-    node[parts[-1]] = value
+        node = node[int(p)] if isinstance(node, list) else node.setdefault(p, {})
+    if isinstance(node, list):
+        node[int(parts[-1])] = value
+    else:
+        node[parts[-1]] = value
 
 
 def commit():
