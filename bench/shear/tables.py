@@ -174,7 +174,7 @@ def write(out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--run", action="store_true", help="run the rows without a report")
-    ap.add_argument("--write", action="store_true", help="rewrite the tables of docs/shear.md")
+    ap.add_argument("--write", action="store_true", help="rewrite the tables (in docs/shear.md) between their markers")
     ap.add_argument("--list", action="store_true", help="print the rows and stop")
     ap.add_argument("--only", nargs="*", default=["*"], help="glob(s) on the row names")
     ap.add_argument("--mrjam", default=str(ROOT / "build" / "mrjam"))
