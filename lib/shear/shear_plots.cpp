@@ -39,14 +39,15 @@ PlotSeries curve_series(const nlohmann::json& flow_curve, const std::string& lab
     return s;
 }
 
-// A Bingham fit's line tau_y + eta * rate (kPa) from rate 0 to x_max.
-PlotSeries bingham_line(const nlohmann::json& b, double x_max, const std::string& label, const std::string& colour) {
+// A Bingham fit's line tau_y + eta * rate (kPa) through the given rates.
+PlotSeries bingham_line(const nlohmann::json& b, const std::vector<double>& rates, const std::string& label,
+                        const std::string& colour) {
     PlotSeries line;
     line.label = label;
     line.line = true;
     line.colour = colour;
     const double ty = b["yield_stress_Pa"].get<double>(), eta = b["plastic_viscosity_Pa_s"].get<double>();
-    for (double x : {0.0, x_max}) {
+    for (double x : rates) {
         line.x.push_back(x);
         line.y.push_back((ty + eta * x) * 1e-3);
     }
@@ -55,7 +56,7 @@ PlotSeries bingham_line(const nlohmann::json& b, double x_max, const std::string
 
 void add_bingham(Plot& plot, const nlohmann::json& fits, double x_max) {
     if (!fits.contains("bingham") || !fits["bingham"].value("ok", false)) return;
-    plot.series.push_back(bingham_line(fits["bingham"], x_max, "Bingham fit", "#d62728"));
+    plot.series.push_back(bingham_line(fits["bingham"], {0.0, x_max}, "Bingham fit", "#d62728"));
 }
 
 void add_experiment(Plot& plot, const nlohmann::json& experiment, double x_max) {
@@ -159,17 +160,9 @@ Plot flow_curve_plot(const nlohmann::json& report) {
     }
     const auto& fits = r["fits"];
     if (fits.contains("bingham") && fits["bingham"].value("ok", false)) {
-        PlotSeries line = bingham_line(fits["bingham"], x_max, "Bingham fit", "#d62728");
-        const double ty = fits["bingham"]["yield_stress_Pa"].get<double>();
-        const double eta = fits["bingham"]["plastic_viscosity_Pa_s"].get<double>();
-        line.x.clear();
-        line.y.clear();
-        for (int i = 0; i <= 40; ++i) {
-            const double x = 0.5 * x_min * std::pow(3 * x_max / x_min, i / 40.0);
-            line.x.push_back(x);
-            line.y.push_back((ty + eta * x) * 1e-3);
-        }
-        plot.series.push_back(line);
+        std::vector<double> rates;  // log-spaced from half the lowest rate to 1.5 times the highest
+        for (int i = 0; i <= 40; ++i) rates.push_back(0.5 * x_min * std::pow(3 * x_max / x_min, i / 40.0));
+        plot.series.push_back(bingham_line(fits["bingham"], rates, "Bingham fit", "#d62728"));
     }
     const nlohmann::json experiment = r.value("experiment", nlohmann::json());
     add_experiment(plot, experiment, x_max);
@@ -286,7 +279,7 @@ nlohmann::json write_convergence_plots(const std::string& report_path, const nlo
         curves.series.push_back(points);
         const auto& b = s["bingham_of_mean_curve"];
         if (!b.value("ok", false)) continue;
-        PlotSeries line = bingham_line(b, rate_hi, std::string(label) + " Bingham", colour);
+        PlotSeries line = bingham_line(b, {0.0, rate_hi}, std::string(label) + " Bingham", colour);
         line.dashed = true;
         curves.series.push_back(line);
     }
