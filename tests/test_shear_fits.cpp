@@ -5,10 +5,12 @@
 #include <cmath>
 #include <random>
 
+#include "magnetic/magnetic_model.hpp"
 #include "rel_approx.hpp"
 #include "shear/block_average.hpp"
 #include "shear/dimensionless.hpp"
 #include "shear/flow_curve_fit.hpp"
+#include "shear/shear_spec.hpp"
 #include "shear/steady_state.hpp"
 
 using mrjam_test::rel;
@@ -22,6 +24,20 @@ std::vector<FlowPoint> synthetic(const std::vector<double>& rates, double (*law)
     return pts;
 }
 const std::vector<double> kRates = {1164, 582, 291, 100, 73, 36, 18, 9};
+}  // namespace
+
+namespace {
+
+// A rate's averaged window as block_average gives it: `samples` samples in blocks with these means.
+BlockAverage window_of(std::size_t samples, const std::vector<double>& block_means) {
+    BlockAverage w;
+    w.samples = samples;
+    w.blocks = block_means.size();
+    w.means = block_means;
+    for (double m : block_means) w.mean += m / static_cast<double>(block_means.size());
+    return w;
+}
+
 }  // namespace
 
 TEST_SUITE("unit") {
@@ -152,13 +168,13 @@ TEST_SUITE("unit") {
 
     TEST_CASE("dimensionless numbers: Clausius-Mossotti contrast, magnetic stress scale and Mason number") {
         // beta: 0 for a grain like the carrier, 1 for a perfect magnet, (mu - 1) / (mu + 2) between.
-        CHECK(clausius_mossotti_beta(1.0) == 0.0);
-        CHECK(clausius_mossotti_beta(1000.0) == rel(999.0 / 1002.0));
-        CHECK(clausius_mossotti_beta(1e12) == rel(1.0).epsilon(1e-9));
+        CHECK(clausius_mossotti(1.0) == 0.0);
+        CHECK(clausius_mossotti(1000.0) == rel(999.0 / 1002.0));
+        CHECK(clausius_mossotti(1e12) == rel(1.0).epsilon(1e-9));
         // 2 mu0 beta^2 H0^2 = 2 beta^2 B^2 / mu0: with beta = 1 and B = mu0 (H0 = 1 A/m), 2 mu0 Pa.
         CHECK(magnetic_stress_scale(1.25663706212e-6, 1.0) == rel(2 * 1.25663706212e-6));
         // The chapter-2 fluid at 600 mT: 2 (999/1002)^2 0.36 / mu0 = 569.5 kPa; the scale goes as B^2.
-        const double beta = clausius_mossotti_beta(1000.0);
+        const double beta = clausius_mossotti(1000.0);
         const double scale = magnetic_stress_scale(0.6, beta);
         CHECK(scale == rel(2 * beta * beta * 0.36 / 1.25663706212e-6));
         CHECK(scale == rel(5.695e5).epsilon(1e-3));
@@ -178,40 +194,44 @@ TEST_SUITE("unit") {
         std::vector<double> slow;
         for (int i = 0; i < 40; ++i) slow.push_back(i < 30 ? i : 30.0);
         const std::vector<double> flat_blocks(5, 30.0);
-        const Settling late = settling_of(slow, 2.0, 20, flat_blocks);  // the window: the last 20 samples
+        const Settling late = settling_of(slow, 2.0, window_of(20, flat_blocks));  // the window: the last 20 samples
         CHECK(late.strain == doctest::Approx(1.0));
         CHECK(late.before_window);  // sample 20 is the window's first: steady just in time
         CHECK(late.steady());
-        CHECK_FALSE(settling_of(slow, 2.0, 21, flat_blocks).before_window);
+        CHECK_FALSE(settling_of(slow, 2.0, window_of(21, flat_blocks)).before_window);
         // A plateau from the start settles at strain 0, before any window.
-        const Settling flat = settling_of(std::vector<double>(40, 5.0), 2.0, 40, flat_blocks);
+        const Settling flat = settling_of(std::vector<double>(40, 5.0), 2.0, window_of(40, flat_blocks));
         CHECK(flat.strain == 0.0);
         CHECK(flat.steady());
-        CHECK(settling_of({}, 2.0, 0, {}).steady());
+        CHECK(settling_of({}, 2.0, BlockAverage{}).steady());
         // A window rising 10, 12, ..., 18 (mean 14): the drift of 10 is significant and more than a
         // tenth of the mean, so the rate is drifting; the same rise on a mean of 140 is not material.
         std::vector<double> rise = {10.0, 12.0, 14.0, 16.0, 18.0};
-        CHECK(settling_of(flat_blocks, 2.0, 5, rise).drifting);
-        CHECK_FALSE(settling_of(flat_blocks, 2.0, 5, rise).steady());
+        CHECK(settling_of(flat_blocks, 2.0, window_of(5, rise)).drifting);
+        CHECK_FALSE(settling_of(flat_blocks, 2.0, window_of(5, rise)).steady());
         for (double& m : rise) m += 126.0;
-        CHECK(settling_of(flat_blocks, 2.0, 5, rise).drift.significant);
-        CHECK_FALSE(settling_of(flat_blocks, 2.0, 5, rise).drifting);
+        CHECK(settling_of(flat_blocks, 2.0, window_of(5, rise)).drift.significant);
+        CHECK_FALSE(settling_of(flat_blocks, 2.0, window_of(5, rise)).drifting);
         // The advice names the key of the rate that needs it and the strain: 1.0 / (1 - 0.5) = 2.
         Settling inside;
         inside.strain = 1.0;
         inside.before_window = false;
-        CHECK(unsettled_advice(0, false, inside, 1.5, 0.5) == "raise /ladder/strain_first to give at least 2 strain");
+        CHECK(unsettled_advice(ladder_length_key(0, false), inside, 1.5, 0.5) ==
+              "raise /ladder/strain_first to give at least 2 strain");
         inside.strain = 0.3;
-        CHECK(unsettled_advice(2, false, inside, 0.5, 0.25) ==
+        CHECK(unsettled_advice(ladder_length_key(2, false), inside, 0.5, 0.25) ==
               "raise /ladder/strain_per_rate to give at least 0.4 strain");
-        CHECK(unsettled_advice(1, true, inside, 0.5, 0.5).find("/ladder/steps_per_rate") != std::string::npos);
-        CHECK(unsettled_advice(0, true, inside, 0.5, 0.5).find("/ladder/steps_first") != std::string::npos);
-        CHECK(unsettled_advice(0, false, inside, 0.5, 1.0).find("/measure/window") != std::string::npos);
+        CHECK(unsettled_advice(ladder_length_key(1, true), inside, 0.5, 0.5).find("/ladder/steps_per_rate") !=
+              std::string::npos);
+        CHECK(unsettled_advice(ladder_length_key(0, true), inside, 0.5, 0.5).find("/ladder/steps_first") !=
+              std::string::npos);
+        CHECK(unsettled_advice(ladder_length_key(0, false), inside, 0.5, 1.0).find("/measure/window") !=
+              std::string::npos);
         // Still drifting: no strain to read off, only that the rate's was not enough.
         Settling drifting;
         drifting.drift = {5.0, 1.0, true};
         drifting.drifting = true;
-        CHECK(unsettled_advice(0, false, drifting, 0.3, 0.5) ==
+        CHECK(unsettled_advice(ladder_length_key(0, false), drifting, 0.3, 0.5) ==
               "raise /ladder/strain_first beyond 0.3 strain, until the window's stress stops drifting");
     }
 

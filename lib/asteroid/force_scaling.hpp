@@ -5,6 +5,8 @@
 // (R^2). Every force here is C R^n, so where two of them cross is a closed form.
 #include <string>
 
+#include "magnetic/magnetic_model.hpp"
+
 namespace mrjam {
 
 inline constexpr double kGravitationalConstant = 6.67430e-11;  // m^3 / (kg s^2), CODATA 2018
@@ -34,7 +36,7 @@ PowerLaw cohesion_force(double cleanliness);
 struct SoftMagneticGrain {
     double relative_permeability = 1000;
     double saturation_magnetisation = 1.7e6;  // A/m
-    double beta() const { return (relative_permeability - 1) / (relative_permeability + 2); }
+    double beta() const { return clausius_mossotti(relative_permeability); }
 };
 
 // How the attraction of two touching soft grains aligned with the field is modelled.

@@ -6,10 +6,6 @@
 
 namespace mrjam {
 
-double clausius_mossotti_beta(double relative_permeability) {
-    return (relative_permeability - 1) / (relative_permeability + 2);
-}
-
 double magnetic_stress_scale(double flux_density, double beta) {
     const double h0 = flux_density / kMu0;
     return 2 * kMu0 * beta * beta * h0 * h0;

@@ -12,6 +12,7 @@
 #include "integrator.hpp"
 #include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
+#include "magnetic/magnetic_model.hpp"
 #include "observers.hpp"
 #include "run/interrupt.hpp"
 #include "run/runner.hpp"
@@ -38,8 +39,7 @@ struct CellPlan {
     std::string name;         // "main"
     double flux_density = 0;  // T
     std::vector<double> wall_speeds, rates, strains;
-    std::vector<long> steps;               // fixed steps per rate (0: from the strain)
-    std::vector<std::string> strain_keys;  // the scene key each strain came from, for refusals
+    std::vector<long> steps;  // fixed steps per rate (0: from the strain)
 };
 
 std::vector<CellPlan> plan_of(const ShearSpec& spec) {
@@ -51,7 +51,6 @@ std::vector<CellPlan> plan_of(const ShearSpec& spec) {
     for (std::size_t k = 0; k < spec.rates.size(); ++k) {
         main.strains.push_back(k == 0 ? spec.strain_first : spec.strain_per_rate);
         main.steps.push_back(spec.steps_first > 0 ? (k == 0 ? spec.steps_first : spec.steps_per_rate) : 0);
-        main.strain_keys.push_back(k == 0 ? "/ladder/strain_first" : "/ladder/strain_per_rate");
     }
     return {main};
 }
@@ -177,21 +176,20 @@ private:
         for (std::size_t k = 0; k < plan.rates.size(); ++k) {
             const double steps = plan.strains[k] / plan.rates[k] / dt;
             if (plan.steps[k] == 0 && !(steps <= kMostSteps))
-                throw SceneError(plan.strain_keys[k], "needs " + format_number(steps, 2) + " steps of " +
-                                                          format_number(dt, 3) + " s at " +
-                                                          format_number(plan.rates[k]) + " 1/s, more than " +
-                                                          format_number(kMostSteps) + cause);
+                throw SceneError(ladder_length_key(k, false), "needs " + format_number(steps, 2) + " steps of " +
+                                                                  format_number(dt, 3) + " s at " +
+                                                                  format_number(plan.rates[k]) + " 1/s, more than " +
+                                                                  format_number(kMostSteps) + cause);
             // Fewer steps than stress samples: the window holds one or two samples and a zero error.
             const bool fixed = plan.steps[k] > 0;
             const double taken = fixed ? static_cast<double>(plan.steps[k]) : steps;
             if (taken < spec_.samples_per_rate)
-                throw SceneError(
-                    fixed ? (k == 0 ? "/ladder/steps_first" : "/ladder/steps_per_rate") : plan.strain_keys[k],
-                    "gives " + format_number(taken, 2) + " steps of " + format_number(dt, 3) + " s at " +
-                        format_number(plan.rates[k]) + " 1/s, fewer than the " +
-                        std::to_string(spec_.samples_per_rate) +
-                        " stress samples of /measure/samples_per_rate (one a step at most): raise it, "
-                        "lower the rate or the samples");
+                throw SceneError(ladder_length_key(k, fixed),
+                                 "gives " + format_number(taken, 2) + " steps of " + format_number(dt, 3) + " s at " +
+                                     format_number(plan.rates[k]) + " 1/s, fewer than the " +
+                                     std::to_string(spec_.samples_per_rate) +
+                                     " stress samples of /measure/samples_per_rate (one a step at most): raise it, "
+                                     "lower the rate or the samples");
         }
         if (!(spec_.magnetise_max / dt <= kMostSteps))
             throw SceneError("/magnetise/max_duration", "needs " + format_number(spec_.magnetise_max / dt, 2) +
@@ -453,7 +451,7 @@ private:
         // Where the stress settles (MSER), against where the averaged window starts: a series still
         // drifting into the window biases the mean, and the report says so.
         const double strain = total * s.dt * plan.rates[k];
-        const Settling settling = settling_of(cur.upper, strain, up.samples, up.means);
+        const Settling settling = settling_of(cur.upper, strain, up);
         nlohmann::json rate = {{"rate_1_s", plan.rates[k]},
                                {"wall_speed_m_s", plan.wall_speeds[k]},
                                {"steps", total},
@@ -492,7 +490,7 @@ private:
     // rate's end: contacts per grain and how closely their normals follow the field.
     void add_dimensionless(const System& s, const CellPlan& plan, std::size_t k, double stress,
                            nlohmann::json& rate) const {
-        const double beta = clausius_mossotti_beta(s.materials.at(0).relative_permeability);
+        const double beta = clausius_mossotti(s.materials.at(0).relative_permeability);
         const double scale = magnetic_stress_scale(plan.flux_density, beta);
         const double mason = mason_number(spec_.viscosity, plan.rates[k], plan.flux_density, beta);
         rate["mason_number"] = std::isfinite(mason) ? nlohmann::json(mason) : nlohmann::json();
@@ -506,19 +504,20 @@ private:
     // A rate not steady in its averaged window (settling inside it, or still drifting through it):
     // its mean holds part of the transient, and the warning names the key to raise.
     void warn_unsettled(std::size_t k, const Settling& settling, double strain) const {
+        const std::string advice =
+            unsettled_advice(ladder_length_key(k, spec_.steps_first > 0), settling, strain, spec_.window_fraction);
         if (settling.drifting)
             std::fprintf(stderr,
                          "[%s] warning: rate %zu: the stress still drifts by %.3g +- %.2g kPa across the averaged "
                          "window (the last %.0f %% of %.3g strain); its mean is not a steady stress: %s\n",
                          options_.label.c_str(), k + 1, settling.drift.change * 1e-3, settling.drift.error * 1e-3,
-                         100 * spec_.window_fraction, strain,
-                         unsettled_advice(k, spec_.steps_first > 0, settling, strain, spec_.window_fraction).c_str());
+                         100 * spec_.window_fraction, strain, advice.c_str());
         else
             std::fprintf(stderr,
                          "[%s] warning: rate %zu: the stress settles %.3g strain into the rate, inside the averaged "
                          "window (the last %.0f %% of %.3g); its mean holds part of the transient: %s\n",
                          options_.label.c_str(), k + 1, settling.strain, 100 * spec_.window_fraction, strain,
-                         unsettled_advice(k, spec_.steps_first > 0, settling, strain, spec_.window_fraction).c_str());
+                         advice.c_str());
     }
 
     static int wall_index(const System& s, const std::string& name) {

@@ -535,6 +535,11 @@ nlohmann::json engine_scene(const ShearSpec& s, double flux_density) {
     return scene;
 }
 
+std::string ladder_length_key(std::size_t rate_index, bool by_steps) {
+    if (rate_index == 0) return by_steps ? "/ladder/steps_first" : "/ladder/strain_first";
+    return by_steps ? "/ladder/steps_per_rate" : "/ladder/strain_per_rate";
+}
+
 std::string shear_path_of(const std::string& p) {
     const std::pair<const char*, const char*> map[] = {{"/materials/0", "/material"},
                                                        {"/grains/0/size", "/size"},

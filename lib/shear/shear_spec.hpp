@@ -89,6 +89,10 @@ ShearSpec read_shear_spec(const nlohmann::json& input, const std::string& tier);
 // ShearCell, so the scene has a single empty stage.
 nlohmann::json engine_scene(const ShearSpec& spec, double flux_density);
 
+// The ladder key that sets rate `rate_index`'s length: the first rate's or the later rates', as a
+// strain or (by_steps) as a step count.
+std::string ladder_length_key(std::size_t rate_index, bool by_steps);
+
 // Maps a path in the engine scene to the shear-scene key a user wrote, so refusals found by the
 // engine's reader name the field of the shear scene.
 std::string shear_path_of(const std::string& engine_path);

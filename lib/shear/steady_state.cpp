@@ -64,33 +64,28 @@ Drift window_drift(const std::vector<double>& block_means) {
     return d;
 }
 
-Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples,
-                     const std::vector<double>& window_block_means) {
+Settling settling_of(const std::vector<double>& series, double rate_strain, const BlockAverage& window) {
     const std::size_t n = series.size();
     if (n == 0) return {};
     const std::size_t settled = mser_truncation(series);
     Settling s;
     s.strain = rate_strain * static_cast<double>(settled) / static_cast<double>(n);
-    s.before_window = settled + std::min(window_samples, n) <= n;
-    s.drift = window_drift(window_block_means);
-    double mean = 0;
-    for (double m : window_block_means) mean += m / static_cast<double>(window_block_means.size());
-    s.drifting = s.drift.significant && std::abs(s.drift.change) > kMaterialDrift * std::abs(mean);
+    s.before_window = settled + std::min(window.samples, n) <= n;
+    s.drift = window_drift(window.means);
+    s.drifting = s.drift.significant && std::abs(s.drift.change) > kMaterialDrift * std::abs(window.mean);
     return s;
 }
 
-std::string unsettled_advice(std::size_t rate_index, bool by_steps, const Settling& settling, double rate_strain,
+std::string unsettled_advice(const std::string& key, const Settling& settling, double rate_strain,
                              double window_fraction) {
-    const char* key = rate_index == 0 ? (by_steps ? "/ladder/steps_first" : "/ladder/strain_first")
-                                      : (by_steps ? "/ladder/steps_per_rate" : "/ladder/strain_per_rate");
     char text[200];
     if (settling.drifting)
-        std::snprintf(text, sizeof text, "raise %s beyond %.3g strain, until the window's stress stops drifting", key,
-                      rate_strain);
+        std::snprintf(text, sizeof text, "raise %s beyond %.3g strain, until the window's stress stops drifting",
+                      key.c_str(), rate_strain);
     else if (window_fraction >= 1)
         return "set /measure/window below 1 so the transient is left out";
     else
-        std::snprintf(text, sizeof text, "raise %s to give at least %.3g strain", key,
+        std::snprintf(text, sizeof text, "raise %s to give at least %.3g strain", key.c_str(),
                       settling.strain / (1 - window_fraction));
     return text;
 }

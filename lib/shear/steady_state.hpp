@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "shear/block_average.hpp"
+
 namespace mrjam {
 
 // The first sample of the steady part (0 for a series steady from its start, or one too short to judge).
@@ -42,15 +44,15 @@ struct Settling {
     bool steady() const { return before_window && !drifting; }
 };
 inline constexpr double kMaterialDrift = 0.1;  // of the window's mean stress
-Settling settling_of(const std::vector<double>& series, double rate_strain, std::size_t window_samples,
-                     const std::vector<double>& window_block_means);
+// `window` is the block average of the series' last samples, the rate's averaged window.
+Settling settling_of(const std::vector<double>& series, double rate_strain, const BlockAverage& window);
 
-// What to change when a rate is not steady in its window (rate_index 0 is the first, longer rate).
-// Settling inside the window: the window is the last `window_fraction` of the rate's strain, so
-// the strain that leaves the transient out is the settling strain over (1 - window_fraction), and a
-// window of the whole rate cannot leave it out at any strain. Still drifting: no strain can be
+// What to change when a rate is not steady in its window; `key` is the ladder key that sets the
+// rate's length (ladder_length_key, shear/shear_spec.hpp). Settling inside the window: the window is the last
+// `window_fraction` of the rate's strain, so the strain that leaves the transient out is the settling strain over (1 -
+// window_fraction), and a window of the whole rate cannot leave it out at any strain. Still drifting: no strain can be
 // read off, only that the rate's `rate_strain` was not enough.
-std::string unsettled_advice(std::size_t rate_index, bool by_steps, const Settling& settling, double rate_strain,
+std::string unsettled_advice(const std::string& key, const Settling& settling, double rate_strain,
                              double window_fraction);
 
 }  // namespace mrjam

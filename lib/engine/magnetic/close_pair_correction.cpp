@@ -40,7 +40,7 @@ const char* close_pair_model_name(ClosePairModel model) {
 }
 
 DipolePairCoefficients capped_dipole_pair(double mu, double s, double h_over_ms) {
-    const double beta = (mu - 1) / (mu + 2);
+    const double beta = clausius_mossotti(mu);
     // m = 4 pi beta (H0 + the partner's axial field 2 m / (4 pi s^3)), in a^3 H0; if that exceeds
     // the cap M_s V, so does the right side at the cap, and both moments sit at it.
     const double m = std::min(4 * M_PI * beta / (1 - 2 * beta / (s * s * s)), 4 * M_PI / 3 / h_over_ms);

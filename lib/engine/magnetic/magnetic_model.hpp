@@ -24,6 +24,12 @@ namespace mrjam {
 inline constexpr double kMu0 = 1.25663706212e-6;  // vacuum permeability, T m / A
 inline constexpr double kInvFourPi = 1.0 / (4.0 * M_PI);
 
+// The Clausius-Mossotti contrast of a sphere of relative permeability mu_r in a non-magnetic
+// carrier: beta = (mu_r - 1) / (mu_r + 2), 0 for a grain like the carrier, 1 for a perfect magnet.
+inline double clausius_mossotti(double relative_permeability) {
+    return (relative_permeability - 1) / (relative_permeability + 2);
+}
+
 // The field of dipole m at separation d from it (H, A/m), given m.d, inv_r2 = 1/|d|^2 and
 // c = 1/(4 pi |d|^3): (3 d (m.d)/|d|^2 - m) c. Even in d, so the same for either end of a pair.
 inline Vec3 dipole_field(const Vec3& m, const Vec3& d, double m_d, double inv_r2, double c) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "magnetic/magnetic_model.hpp"
+
 namespace mrjam {
 
 namespace {
@@ -89,7 +91,7 @@ SpherePairResponse converged_sphere_pair_response(double mu, double separation, 
 }
 
 SpherePairResponse mutual_dipole_pair_response(double mu, double separation, PairOrientation orientation) {
-    const double beta = (mu - 1.0) / (mu + 2.0);
+    const double beta = clausius_mossotti(mu);
     // The other dipole's field at this centre, per unit of its moment over 4 pi: 2/s^3 along the
     // line of centres, -1/s^3 across it.
     const double k = orientation == PairOrientation::axial ? 2.0 : -1.0;
