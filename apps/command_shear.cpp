@@ -71,6 +71,7 @@ nlohmann::json report_of(const ShearSpec& spec, const ShearOutcome& out, const s
     }
     report["results"] = out.results;
     report["wall_time_s"] = out.wall_time;
+    report["performance"] = out.performance;
     return report;
 }
 // `--converge`: the study at every cell size and seed, its report and pictures.

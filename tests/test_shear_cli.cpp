@@ -79,6 +79,16 @@ TEST_SUITE("cli") {
             if (!q["steady_before_window"].get<bool>() || q["drifting_in_window"].get<bool>())
                 unsteady.push_back(q["rate_1_s"].get<double>());
         CHECK(res["fit_rates_not_steady_1_s"].get<std::vector<double>>() == unsteady);
+        // The speed counts the main cell's steps, the magnetisation's and every rate's, and not the
+        // field sweep's runs (studies of their own).
+        long cell_steps =
+            std::lround(res["magnetisation"]["duration_s"].get<double>() / rep["timestep"]["used_s"].get<double>());
+        for (const auto& q : res["flow_curve"]) cell_steps += q["steps"].get<long>();
+        CHECK(rep["performance"]["steps_run"].get<long>() == cell_steps);
+        CHECK(rep["performance"]["core_us_per_grain_step"].get<double>() > 0);
+        CHECK(rep["performance"]["grain_steps_per_s"].get<double>() *
+                  rep["performance"]["core_us_per_grain_step"].get<double>() ==
+              rel(1e6 * rep["threads"].get<double>()));
         CHECK(res["flow_curve"][0]["rate_1_s"].get<double>() == rel(3000));
         REQUIRE(res["yield_stress_Pa"].is_number());
         CHECK(res["fits"]["bingham"]["yield_stress_Pa"] == res["yield_stress_Pa"]);

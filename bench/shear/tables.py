@@ -102,6 +102,12 @@ def first_rate_drift(rate):
     return f"{rate['drift_in_window_Pa'] / 1e3:+.1f} ± {rate['drift_error_Pa'] / 1e3:.1f}{flag}"
 
 
+def core_us(rep):
+    """Core-us per grain-step of the study's cells; '-' for a report of before the key."""
+    value = rep.get("performance", {}).get("core_us_per_grain_step")
+    return f"{value:.3f}" if isinstance(value, (int, float)) else "-"
+
+
 def row(name, out):
     rep = json.loads((out / name / "report.json").read_text())
     info = json.loads((out / name / "run.json").read_text())
@@ -129,13 +135,14 @@ def row(name, out):
         first_rate_drift(curve[0]) or "-",
         f"{kpa(casson.get('yield_stress_Pa'))} / {kpa(hb.get('yield_stress_Pa'))}",
         f"{rep['wall_time_s']:.0f}",
+        core_us(rep),
     ]
     return "| " + " | ".join(cells) + " |", info
 
 
 HEADER = ("| run | change | tier | seed | cell (um) | grains | dt (ns) | strain first / last rate | "
           "Bingham yield (kPa) | vs experiment | mean stress >= 200 1/s (kPa) | stress per rate (kPa) | "
-          "first rate's drift across its window (kPa) | Casson / HB yield (kPa) | wall (s) |")
+          "first rate's drift across its window (kPa) | Casson / HB yield (kPa) | wall (s) | core-us per grain-step |")
 
 
 def render(table, out):

@@ -68,6 +68,30 @@ std::string checkpoint_path(const ShearSpec& spec, const ShearOptions& o) {
     throw SceneError(shear_path_of(e.path()), message);
 }
 
+// The speed of the cells a command stepped, summed from each cell's run report (its runner's wall
+// time, which leaves out the packing of the grains, and its grain-steps).
+struct CellSpeed {
+    long steps = 0;
+    double grain_steps = 0, wall = 0;
+
+    void add(const nlohmann::json& cell_report) {
+        if (!cell_report.contains("performance")) return;  // stopped before its runner started
+        const nlohmann::json& p = cell_report["performance"];
+        const double cell_wall = cell_report.value("wall_time_s", 0.0);
+        steps += p.value("steps_run", 0L);
+        grain_steps += p.value("grain_steps_per_s", 0.0) * cell_wall;
+        wall += cell_wall;
+    }
+
+    nlohmann::json summary(int threads) const {
+        const bool ran = grain_steps > 0 && wall > 0;
+        return {{"steps_run", steps},
+                {"grain_steps_per_s", ran ? nlohmann::json(grain_steps / wall) : nlohmann::json(nullptr)},
+                {"core_us_per_grain_step",
+                 ran ? nlohmann::json(wall * std::max(1, threads) * 1e6 / grain_steps) : nlohmann::json(nullptr)}};
+    }
+};
+
 }  // namespace
 
 void check_engine_accepts(const ShearSpec& spec) {
@@ -136,6 +160,7 @@ public:
             } else {
                 finish_cell(c);
             }
+            speed_.add(cell.report);
         }
         nlohmann::json field_sweep;
         if (out.status == "complete" && !spec_.sweep_fields.empty()) field_sweep = run_fields(out);
@@ -144,6 +169,7 @@ public:
         out.results = summarise(spec_, progress_.cells, current, field_sweep);
         out.engine = progress_.engine;
         out.wall_time = seconds_since(t0_);
+        out.performance = speed_.summary(scene_ ? scene_->system.threads : options_.threads);
         return out;
     }
 
@@ -555,6 +581,7 @@ private:
     ProtocolPosition resume_at_;
     nlohmann::json resumed_stage_log_;
     bool resumed_ = false;
+    CellSpeed speed_;
     Clock::time_point t0_, rate_started_;
 };
 }  // namespace

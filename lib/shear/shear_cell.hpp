@@ -30,6 +30,10 @@ struct ShearOutcome {
     std::string checkpoint;  // written on interrupt
     int exit_status = 0;     // 0, 130 interrupted, 3 blow-up
     double wall_time = 0;
+    // Speed of the main ladder's cells this command stepped (a resumed study counts from its
+    // resume; a field sweep's runs report their own): steps_run, grain_steps_per_s,
+    // core_us_per_grain_step, as run mode's report gives them.
+    nlohmann::json performance;
 };
 
 // Builds the engine scene of `spec`'s first cell without its grains, as a cheap check that the
