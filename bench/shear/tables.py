@@ -13,8 +13,8 @@ the same commit, so a table never mixes binaries.
     python3 bench/shear/tables.py --write
     python3 bench/shear/tables.py --list
 
-The whole set is about an hour of one core on this 2-core machine (the paper tier and the volume
-reading are the long rows).
+The whole set is about an hour and a half of one core on this 2-core machine (the paper tier, the
+volume reading and the longer magnetic ranges are the long rows).
 """
 import argparse
 import copy
@@ -50,6 +50,10 @@ CASES = {
     "quick_lees_edwards": ("sensitivity", "quick", {"/cell/boundaries": "lees_edwards"}, "Lees-Edwards boundaries"),
     "quick_lees_edwards_seed2": ("sensitivity", "quick", {"/cell/boundaries": "lees_edwards", "/seed": 2},
                                  "Lees-Edwards boundaries, seed 2"),
+    "quick_range_16um": ("sensitivity", "quick", {"/magnetic/cutoff": {"beyond_contact": "16 um"}},
+                         "magnetic range 16 um beyond contact"),
+    "quick_range_24um": ("sensitivity", "quick", {"/magnetic/cutoff": {"beyond_contact": "24 um"}},
+                         "magnetic range 24 um beyond contact"),
 }
 
 
