@@ -232,6 +232,14 @@ TEST_SUITE("cli") {
             expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
         }
         {
+            // A magnetic range longer than half the cell: a grain would meet its own image.
+            json s = base;
+            s["magnetic"] = {{"cutoff", {{"beyond_contact", "20 um"}}}};
+            expect_shear_refused(
+                dir, "range_past_half_cell", s,
+                "/magnetic/cutoff: the magnetic cutoff of the largest grains drawn (diameter 6.7e-06 m)");
+        }
+        {
             // A strain that needs more steps than any run could take (it ran, showing "step 0/2.3e17").
             json s = base;
             s["ladder"]["strain_first"] = 1e12;

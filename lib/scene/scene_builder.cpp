@@ -607,11 +607,13 @@ void choose_timestep(Scene& scene) {
                                                      "reach at least the touching neighbours");
         for (int k = 0; k < 3; ++k)
             if (s.domain.periodic[k] && s.magnetic.pairs.pair_cutoff(r_max, r_max) > 0.5 * s.domain.length()[k])
-                throw SceneError("/magnetic/cutoff", "the magnetic cutoff of the largest grains (" +
-                                                         format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max)) +
-                                                         " m with the skin) exceeds half the periodic box along " +
-                                                         std::string(1, char('x' + k)) +
-                                                         "; shorten the cutoff or enlarge the box");
+                throw SceneError(
+                    "/magnetic/cutoff",
+                    "the magnetic cutoff of the largest grains drawn (diameter " + format_number(2 * r_max, 3) +
+                        " m) is " + format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max), 3) +
+                        " m with the skin, more than half the periodic box along " + std::string(1, char('x' + k)) +
+                        " (" + format_number(0.5 * s.domain.length()[k], 3) +
+                        " m): a grain would meet its own image; shorten the cutoff or enlarge the box");
         s.magnetic.any_permanent = false;
         for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
         if (ms.close_pairs.enabled) build_close_pair_table(s, r_max);
