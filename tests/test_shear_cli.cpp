@@ -232,7 +232,7 @@ TEST_SUITE("cli") {
             expect_shear_refused(dir, "repeated_speed", s, "/ladder/wall_speeds/2");
         }
         {
-            // A magnetic range longer than half the cell: a grain would meet its own image.
+            // A magnetic range longer than half the cell: a pair would meet through two images.
             json s = base;
             s["magnetic"] = {{"cutoff", {{"beyond_contact", "20 um"}}}};
             expect_shear_refused(

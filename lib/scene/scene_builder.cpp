@@ -613,7 +613,7 @@ void choose_timestep(Scene& scene) {
                         " m) is " + format_number(s.magnetic.pairs.pair_cutoff(r_max, r_max), 3) +
                         " m with the skin, more than half the periodic box along " + std::string(1, char('x' + k)) +
                         " (" + format_number(0.5 * s.domain.length()[k], 3) +
-                        " m): a grain would meet its own image; shorten the cutoff or enlarge the box");
+                        " m): a pair would meet through more than one image; shorten the cutoff or enlarge the box");
         s.magnetic.any_permanent = false;
         for (const Vec3& m : p.permanent_moment) s.magnetic.any_permanent |= norm2(m) > 0;
         if (ms.close_pairs.enabled) build_close_pair_table(s, r_max);
