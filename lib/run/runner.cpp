@@ -347,9 +347,8 @@ private:
         report["partial"] = status_ != "complete";
         report["results"] = state_summary(s_);
         report["results"]["stages"] = stage_log_;
-        report["performance"] = {{"steps_run", steps_advanced_},
-                                 {"grain_steps_per_s", grain_steps_ / std::max(wall, 1e-9)},
-                                 {"core_us_per_grain_step", wall * s_.threads * 1e6 / std::max(1.0, grain_steps_)}};
+        outcome_.speed = RunSpeed{steps_advanced_, grain_steps_, wall};
+        report["performance"] = performance_json(outcome_.speed, s_.threads);
         report["wall_time_s"] = wall;
         if (!options_.report_path.empty()) write_json_file(options_.report_path, report);
         return outcome_;
@@ -374,6 +373,12 @@ private:
 };
 
 }  // namespace
+
+nlohmann::json performance_json(const RunSpeed& speed, int threads) {
+    return {{"steps_run", speed.steps_run},
+            {"grain_steps_per_s", speed.grain_steps / std::max(speed.wall_s, 1e-9)},
+            {"core_us_per_grain_step", speed.wall_s * threads * 1e6 / std::max(1.0, speed.grain_steps)}};
+}
 
 RunOutcome run_protocol(Scene& scene, const RunOptions& options, ProtocolPosition pos, const StepObserver& observer) {
     return ProtocolRun(scene, options, observer).run(pos);

@@ -45,9 +45,21 @@ struct RunOptions {
     bool checkpoint_each_stage = false;
 };
 
+// What a run stepped: its steps, its grain-steps (summed chunk by chunk, as grains may leave) and
+// its wall time from the first step.
+struct RunSpeed {
+    long steps_run = 0;
+    double grain_steps = 0;
+    double wall_s = 0;
+};
+
+// The reports' `performance` block of `speed` on `threads` threads.
+nlohmann::json performance_json(const RunSpeed& speed, int threads);
+
 struct RunOutcome {
     nlohmann::json report;
     int exit_status = 0;  // 0 complete, 130 interrupted (checkpoint written), 3 blow-up
+    RunSpeed speed;
 };
 
 // Called after every `RunOptions::observe_every` steps; a mode uses it to observe (flux, stress

@@ -68,27 +68,20 @@ std::string checkpoint_path(const ShearSpec& spec, const ShearOptions& o) {
     throw SceneError(shear_path_of(e.path()), message);
 }
 
-// The speed of the cells a command stepped, summed from each cell's run report (its runner's wall
-// time, which leaves out the packing of the grains, and its grain-steps).
+// The speed of the cells a command stepped, summed over their runs (each run's wall time leaves
+// out the packing of its grains); null rates when no cell stepped (a study resumed at its end).
 struct CellSpeed {
-    long steps = 0;
-    double grain_steps = 0, wall = 0;
+    RunSpeed total;
 
-    void add(const nlohmann::json& cell_report) {
-        if (!cell_report.contains("performance")) return;  // stopped before its runner started
-        const nlohmann::json& p = cell_report["performance"];
-        const double cell_wall = cell_report.value("wall_time_s", 0.0);
-        steps += p.value("steps_run", 0L);
-        grain_steps += p.value("grain_steps_per_s", 0.0) * cell_wall;
-        wall += cell_wall;
+    void add(const RunSpeed& cell) {
+        total.steps_run += cell.steps_run;
+        total.grain_steps += cell.grain_steps;
+        total.wall_s += cell.wall_s;
     }
 
     nlohmann::json summary(int threads) const {
-        const bool ran = grain_steps > 0 && wall > 0;
-        return {{"steps_run", steps},
-                {"grain_steps_per_s", ran ? nlohmann::json(grain_steps / wall) : nlohmann::json(nullptr)},
-                {"core_us_per_grain_step",
-                 ran ? nlohmann::json(wall * std::max(1, threads) * 1e6 / grain_steps) : nlohmann::json(nullptr)}};
+        if (total.grain_steps > 0 && total.wall_s > 0) return performance_json(total, std::max(1, threads));
+        return {{"steps_run", total.steps_run}, {"grain_steps_per_s", nullptr}, {"core_us_per_grain_step", nullptr}};
     }
 };
 
@@ -160,7 +153,7 @@ public:
             } else {
                 finish_cell(c);
             }
-            speed_.add(cell.report);
+            speed_.add(cell.speed);
         }
         nlohmann::json field_sweep;
         if (out.status == "complete" && !spec_.sweep_fields.empty()) field_sweep = run_fields(out);
